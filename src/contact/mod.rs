@@ -1,0 +1,1 @@
+//! Thickness contact for non-persistent contacts: barrier, distances, broad phase, CCD (seed 003).

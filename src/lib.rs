@@ -1,0 +1,24 @@
+//! knitsim: knit patterns to yarn-level simulation.
+//!
+//! The pipeline, one module per stage:
+//! - [`pattern`]: the text format (chart, legend, repeats, written rows) to a
+//!   validated, fully expanded [`pattern::Pattern`].
+//! - [`topology`]: pattern to [`topology::Fabric`]: yarns as sorted `(u, x)`
+//!   point lists and the persistent EoL contacts between them.
+//! - [`energy`], [`rod`], [`contact`]: potentials as stencils (value,
+//!   gradient, Hessian on fixed-size local vectors).
+//! - [`solver`]: the mixed statics-dynamics Newton solve and its linear solvers.
+//! - [`gpu`]: wgpu compute kernels (feature `gpu`).
+//! - [`scene`]: what to simulate: pins, obstacles, layers, parameters.
+//! - [`io`]: VTK, OBJ, PNG and JSON output, written atomically.
+
+pub mod contact;
+pub mod energy;
+#[cfg(feature = "gpu")]
+pub mod gpu;
+pub mod io;
+pub mod pattern;
+pub mod rod;
+pub mod scene;
+pub mod solver;
+pub mod topology;

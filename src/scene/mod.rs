@@ -1,0 +1,1 @@
+//! Scenes: what to simulate and with which parameters.

@@ -1,0 +1,4 @@
+//! Newton solver, assembly and linear solvers.
+
+pub mod linear;
+pub mod sparse;
