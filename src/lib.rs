@@ -20,5 +20,6 @@ pub mod io;
 pub mod pattern;
 pub mod rod;
 pub mod scene;
+pub mod sim;
 pub mod solver;
 pub mod topology;

@@ -1,0 +1,237 @@
+//! Per-step EoL/EIL node assignment (seed 000, sec. 4.1; MODEL.md sec. 2).
+//!
+//! Each step, before the first Newton iteration, every yarn's points are
+//! sorted by their current `u` and walked in order. A point closer in `u`
+//! than the safety distance to the previous non-EIL point becomes EIL: its
+//! `x` is then interpolated, so the degenerate segment never enters stretch,
+//! bending or mass terms. If that point has a fixed `u` (yarn end, resolution
+//! node) it must stay a real node, so the previous non-EIL point is demoted
+//! instead. Storage order of points never changes (dof indices are stable);
+//! the sorted order lives here.
+
+use super::dofs::DofLayout;
+use crate::topology::{Fabric, PointRef};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AssignParams {
+    /// Safety distance as a fraction of the rest segment length (0.1 in seed 000).
+    pub safety_fraction: f64,
+    /// `false` disables EIL entirely (plain EoL), to show why EIL matters.
+    pub enable_eil: bool,
+}
+
+impl Default for AssignParams {
+    fn default() -> Self {
+        AssignParams {
+            safety_fraction: 0.1,
+            enable_eil: true,
+        }
+    }
+}
+
+/// The discretization of one step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Assignment {
+    /// Per yarn, its point indices sorted by current `u`.
+    pub order: Vec<Vec<usize>>,
+    /// Per global point number (see [`DofLayout::point`]): is it EIL?
+    pub eil: Vec<bool>,
+}
+
+impl Assignment {
+    pub fn is_eil(&self, layout: &DofLayout, p: PointRef) -> bool {
+        self.eil[layout.point(p)]
+    }
+
+    pub fn eil_count(&self) -> usize {
+        self.eil.iter().filter(|&&e| e).count()
+    }
+
+    /// Sorted non-EIL point indices of a yarn: the rod's discretization.
+    pub fn real_points<'a>(&'a self, layout: &'a DofLayout, yarn: usize) -> impl Iterator<Item = usize> + 'a {
+        self.order[yarn]
+            .iter()
+            .copied()
+            .filter(move |&pi| !self.eil[layout.yarn_offsets[yarn] + pi])
+    }
+
+    /// The non-EIL neighbours (previous, next) in `u` order of an EIL point.
+    pub fn interpolation_neighbours(&self, layout: &DofLayout, p: PointRef) -> Option<(usize, usize)> {
+        let ord = &self.order[p.yarn];
+        let k = ord.iter().position(|&i| i == p.point)?;
+        let off = layout.yarn_offsets[p.yarn];
+        let prev = ord[..k].iter().rev().copied().find(|&i| !self.eil[off + i])?;
+        let next = ord[k + 1..].iter().copied().find(|&i| !self.eil[off + i])?;
+        Some((prev, next))
+    }
+}
+
+/// Mean rest segment length of each yarn, in the compiled (rest) fabric.
+pub fn rest_segment_lengths(f: &Fabric) -> Vec<f64> {
+    f.yarns
+        .iter()
+        .map(|y| y.rest_length / (y.points.len().max(2) - 1) as f64)
+        .collect()
+}
+
+/// Assigns EIL points for the coordinates `q`.
+pub fn assign(f: &Fabric, layout: &DofLayout, q: &[f64], rest_seg: &[f64], p: AssignParams) -> Assignment {
+    let mut order = Vec::with_capacity(f.yarns.len());
+    let mut eil = vec![false; layout.n_points()];
+    for (yi, y) in f.yarns.iter().enumerate() {
+        let off = layout.yarn_offsets[yi];
+        let u = |pi: usize| q[3 * layout.n_nodes + off + pi];
+        let mut ord: Vec<usize> = (0..y.points.len()).collect();
+        // Ties keep storage order, so the assignment is deterministic.
+        ord.sort_by(|&a, &b| u(a).total_cmp(&u(b)).then(a.cmp(&b)));
+        if p.enable_eil {
+            let d = p.safety_fraction * rest_seg[yi];
+            let mut last: Option<usize> = None;
+            for &pi in &ord {
+                let Some(l) = last else {
+                    last = Some(pi);
+                    continue;
+                };
+                if u(pi) - u(l) >= d {
+                    last = Some(pi);
+                } else if !y.points[pi].fixed_u {
+                    eil[off + pi] = true;
+                } else if !y.points[l].fixed_u {
+                    // A fixed-u point must stay a node: demote the previous one.
+                    eil[off + l] = true;
+                    last = Some(pi);
+                } else {
+                    // Two fixed points closer than d: the rest discretization
+                    // itself; both stay real.
+                    last = Some(pi);
+                }
+            }
+        }
+        order.push(ord);
+    }
+    Assignment { order, eil }
+}
+
+/// Which coordinates are unknowns this step: not pinned, not a fixed `u`,
+/// and for a node, at least one of its yarn points is non-EIL.
+pub fn free_mask(f: &Fabric, layout: &DofLayout, a: &Assignment) -> Vec<bool> {
+    let mut free = vec![false; layout.len()];
+    for (yi, y) in f.yarns.iter().enumerate() {
+        for (pi, pt) in y.points.iter().enumerate() {
+            let r = PointRef { yarn: yi, point: pi };
+            if !pt.fixed_u {
+                free[layout.u(r)] = true;
+            }
+            if !a.is_eil(layout, r) && !f.nodes[pt.node].pinned {
+                let x = layout.x(pt.node);
+                free[x..x + 3].iter_mut().for_each(|v| *v = true);
+            }
+        }
+    }
+    free
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pattern::{Construction, Gauge, Meta, YarnSpec};
+    use crate::topology::{Node, Vec3, Yarn, YarnPoint};
+
+    fn meta() -> Meta {
+        Meta {
+            name: "t".into(),
+            gauge: Gauge {
+                stitches_per_10cm: 20.0,
+                rows_per_10cm: 28.0,
+            },
+            yarns: vec![YarnSpec {
+                name: "a".into(),
+                color: [200, 0, 0],
+                radius: 5e-4,
+                material: None,
+            }],
+            construction: Construction::Flat,
+            width: 1,
+            height: 1,
+            looseness: 1.0,
+        }
+    }
+
+    /// One straight yarn with points at the given u's; `fixed` marks fixed-u points.
+    fn yarn(us: &[(f64, bool)]) -> Fabric {
+        let nodes = us
+            .iter()
+            .map(|&(u, _)| Node {
+                x: Vec3::new(u, 0.0, 0.0),
+                pinned: false,
+            })
+            .collect();
+        let points = us
+            .iter()
+            .enumerate()
+            .map(|(i, &(u, fixed_u))| YarnPoint {
+                node: i,
+                u,
+                fixed_u,
+                eil: false,
+            })
+            .collect();
+        Fabric {
+            meta: meta(),
+            nodes,
+            yarns: vec![Yarn {
+                spec: 0,
+                rest_length: 1.0,
+                points,
+            }],
+            contacts: vec![],
+            sim: None,
+        }
+    }
+
+    #[test]
+    fn close_sliding_point_becomes_eil_and_fixed_point_demotes_previous() {
+        // Rest segment 0.25 -> safety distance 0.025.
+        let f = yarn(&[(0.0, true), (0.5, false), (0.51, false), (0.99, false), (1.0, true)]);
+        let l = DofLayout::new(&f);
+        let q = l.gather(&f);
+        let a = assign(&f, &l, &q, &rest_segment_lengths(&f), AssignParams::default());
+        assert_eq!(a.eil, vec![false, false, true, true, false]);
+        assert_eq!(a.eil_count(), 2);
+        assert_eq!(
+            a.interpolation_neighbours(&l, PointRef { yarn: 0, point: 2 }),
+            Some((1, 4))
+        );
+        let free = free_mask(&f, &l, &a);
+        // EIL points keep a free u but their node x is cancelled.
+        assert!(free[l.u(PointRef { yarn: 0, point: 2 })]);
+        assert!(!free[l.x(2)] && !free[l.x(3)] && free[l.x(1)]);
+        // Fixed-u ends are not unknowns in u.
+        assert!(!free[l.u(PointRef { yarn: 0, point: 0 })]);
+    }
+
+    #[test]
+    fn crossing_points_are_resorted_and_eil_can_be_disabled() {
+        let f = yarn(&[(0.0, true), (0.6, false), (0.4, false), (1.0, true)]);
+        let l = DofLayout::new(&f);
+        let q = l.gather(&f);
+        let a = assign(&f, &l, &q, &rest_segment_lengths(&f), AssignParams::default());
+        assert_eq!(a.order[0], vec![0, 2, 1, 3]);
+        assert_eq!(a.eil_count(), 0);
+        let mut q2 = q.clone();
+        q2[l.u(PointRef { yarn: 0, point: 2 })] = 0.6 - 1e-9;
+        let on = assign(&f, &l, &q2, &rest_segment_lengths(&f), AssignParams::default());
+        assert_eq!(on.eil_count(), 1);
+        let off = assign(
+            &f,
+            &l,
+            &q2,
+            &rest_segment_lengths(&f),
+            AssignParams {
+                enable_eil: false,
+                ..Default::default()
+            },
+        );
+        assert_eq!(off.eil_count(), 0);
+    }
+}

@@ -1,0 +1,11 @@
+//! The EoL simulation pipeline: from a [`Fabric`](crate::topology::Fabric)
+//! to the generic Newton problem and back.
+//!
+//! This is the only place that knows both the EoL data model and the solver:
+//! the DOF layout, the per-step EIL assignment, which stencils exist for the
+//! current discretization, and the time-stepping and relaxation loops. The
+//! energies themselves (`rod`, `contact`) and the solver (`solver`) stay
+//! generic.
+
+pub mod assignment;
+pub mod dofs;
