@@ -36,7 +36,7 @@
 //! Parameters for a whole fabric are gathered in [`params::RodParams`].
 
 pub mod angle;
-// pub mod bending;
+pub mod bending;
 // pub mod damping;
 // pub mod eil;
 // pub mod friction;
