@@ -38,7 +38,7 @@
 pub mod angle;
 pub mod bending;
 // pub mod damping;
-// pub mod eil;
+pub mod eil;
 // pub mod friction;
 // pub mod gravity;
 pub mod jet;
