@@ -37,15 +37,15 @@
 
 pub mod angle;
 pub mod bending;
-// pub mod damping;
+pub mod damping;
 pub mod eil;
 pub mod friction;
-// pub mod gravity;
+pub mod gravity;
 pub mod jet;
-// pub mod mass;
+pub mod mass;
 pub mod parallel;
 pub mod params;
-// pub mod pin;
+pub mod pin;
 // pub mod shear;
 pub mod stretch;
 // pub mod wrapping;
