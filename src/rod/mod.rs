@@ -46,7 +46,7 @@ pub mod mass;
 pub mod parallel;
 pub mod params;
 pub mod pin;
-// pub mod shear;
+pub mod shear;
 pub mod stretch;
 // pub mod wrapping;
 
