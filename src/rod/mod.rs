@@ -48,7 +48,7 @@ pub mod params;
 pub mod pin;
 pub mod shear;
 pub mod stretch;
-// pub mod wrapping;
+pub mod wrapping;
 
 #[cfg(test)]
 pub(crate) mod testutil;
