@@ -1,0 +1,201 @@
+//! Bending at an interior EoL node (seed 000 eq. 4, rewritten from Cirio 2014):
+//!
+//! ```text
+//! Vb = kb (theta - theta_rest)^2 / (du1 + du2)
+//! theta = angle(x1 - x0, x2 - x1),  du1 = u1 - u0,  du2 = u2 - u1
+//! ```
+//!
+//! With `kb = EI` this is the discrete `1/2 EI integral kappa^2` for curvature
+//! `2 theta / (du1 + du2)` over the Voronoi length `(du1 + du2) / 2`
+//! (see `params.rs`). Only `u0` and `u2` enter, through `D = u2 - u0`; `u1`
+//! sits in the local vector so the stencil layout matches the node triple.
+//!
+//! `f(theta) = kb (theta - rest)^2` is differentiated through `cos(theta)`
+//! (`angle.rs`), which is exact at `theta = 0` for the default `rest = 0`.
+//! At a fold (`theta -> pi`) the energy has a concave cone point; derivatives
+//! stay finite (large) and the PSD projection removes the negative part.
+//! The `1/D` factor adds
+//!
+//! ```text
+//! grad V = grad f / D - f grad D / D^2
+//! hess V = hess f / D - (grad f grad D^T + grad D grad f^T) / D^2 + 2 f grad D grad D^T / D^3
+//! ```
+//!
+//! with `grad D` = -1 at `u0`, +1 at `u2`.
+
+use super::angle::{angle_energy, QuadraticAngle};
+use crate::energy::Stencil;
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+
+/// Bending stencil on `[x0(3), u0, x1(3), u1, x2(3), u2]` (N = 12).
+#[derive(Clone, Copy, Debug)]
+pub struct Bending {
+    /// Bending rigidity `EI` (N m^2).
+    pub kb: f64,
+    /// Rest turning angle (rad); 0 for a naturally straight yarn.
+    pub rest_angle: f64,
+}
+
+const X0: usize = 0;
+const U0: usize = 3;
+const X1: usize = 4;
+const X2: usize = 8;
+const U2: usize = 11;
+
+impl Bending {
+    /// A naturally straight yarn.
+    pub fn new(kb: f64) -> Self {
+        Bending { kb, rest_angle: 0.0 }
+    }
+
+    pub fn with_rest_angle(kb: f64, rest_angle: f64) -> Self {
+        Bending { kb, rest_angle }
+    }
+
+    fn edges(q: &SVector<f64, 12>) -> (Vector3<f64>, Vector3<f64>, f64) {
+        let x0 = q.fixed_rows::<3>(X0);
+        let x1 = q.fixed_rows::<3>(X1);
+        let x2 = q.fixed_rows::<3>(X2);
+        (x1 - x0, x2 - x1, q[U2] - q[U0])
+    }
+
+    /// Value, gradient and Hessian together.
+    pub fn evaluate(&self, q: &SVector<f64, 12>) -> (f64, SVector<f64, 12>, SMatrix<f64, 12, 12>) {
+        let (e1, e2, d) = Self::edges(q);
+        let profile = QuadraticAngle {
+            k: self.kb,
+            rest: self.rest_angle,
+        };
+        let (f, g6, h6) = angle_energy(&e1, &e2, &profile);
+        if d <= 0.0 {
+            return (f64::INFINITY, SVector::zeros(), SMatrix::zeros());
+        }
+        // Edge vectors as a linear map of the local vector: (e1, e2) = S q.
+        let mut s = SMatrix::<f64, 6, 12>::zeros();
+        let id = Matrix3::identity();
+        s.fixed_view_mut::<3, 3>(0, X0).copy_from(&(-id));
+        s.fixed_view_mut::<3, 3>(0, X1).copy_from(&id);
+        s.fixed_view_mut::<3, 3>(3, X1).copy_from(&(-id));
+        s.fixed_view_mut::<3, 3>(3, X2).copy_from(&id);
+        let gf = s.transpose() * g6;
+        let hf = s.transpose() * h6 * s;
+        let mut gd = SVector::<f64, 12>::zeros();
+        gd[U0] = -1.0;
+        gd[U2] = 1.0;
+        let cross = gf * gd.transpose();
+        let value = f / d;
+        let grad = gf / d - gd * (f / (d * d));
+        let hess = hf / d - (cross + cross.transpose()) / (d * d) + gd * gd.transpose() * (2.0 * f / (d * d * d));
+        (value, grad, hess)
+    }
+}
+
+impl Stencil<12> for Bending {
+    fn value(&self, q: &SVector<f64, 12>) -> f64 {
+        self.evaluate(q).0
+    }
+    fn gradient(&self, q: &SVector<f64, 12>) -> SVector<f64, 12> {
+        self.evaluate(q).1
+    }
+    fn hessian(&self, q: &SVector<f64, 12>) -> SMatrix<f64, 12, 12> {
+        self.evaluate(q).2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::energy::fd::check_derivatives;
+    use crate::rod::testutil::{assert_all_finite, put3, Rng};
+    use std::f64::consts::{FRAC_PI_2, PI};
+
+    fn local(x: [Vector3<f64>; 3], u: [f64; 3]) -> SVector<f64, 12> {
+        let mut q = SVector::<f64, 12>::zeros();
+        for k in 0..3 {
+            put3(&mut q, 4 * k, &x[k]);
+            q[4 * k + 3] = u[k];
+        }
+        q
+    }
+
+    /// Nodes x0, x1, x2 with turning angle `theta` at x1, random orientation.
+    fn bent(rng: &mut Rng, theta: f64, l1: f64, l2: f64) -> SVector<f64, 12> {
+        let t = rng.vec3(1.0).normalize();
+        let n = rng.orthogonal_unit(&t);
+        let x1 = rng.vec3(0.1);
+        let x0 = x1 - t * l1;
+        let x2 = x1 + (t * theta.cos() + n * theta.sin()) * l2;
+        let u0 = rng.range(-1.0, 1.0);
+        local([x0, x1, x2], [u0, u0 + l1, u0 + l1 + l2])
+    }
+
+    #[test]
+    fn right_angle_bend_by_hand() {
+        // theta = pi/2, du1 + du2 = 2: V = kb (pi/2)^2 / 2.
+        let b = Bending::new(3.0);
+        let q = local(
+            [Vector3::zeros(), Vector3::x(), Vector3::x() + Vector3::y()],
+            [0.0, 1.0, 2.0],
+        );
+        assert!((b.value(&q) - 3.0 * FRAC_PI_2 * FRAC_PI_2 / 2.0).abs() < 1e-14);
+        // Sliding material in (larger D) lowers the energy: dV/du2 = -V / D.
+        let g = b.gradient(&q);
+        assert!((g[U2] + b.value(&q) / 2.0).abs() < 1e-14);
+        // A rest angle of pi/2 makes this the rest state.
+        let r = Bending::with_rest_angle(3.0, FRAC_PI_2);
+        assert!(r.value(&q).abs() < 1e-15 && r.gradient(&q).norm() < 1e-13);
+    }
+
+    #[test]
+    fn derivatives_random() {
+        let mut rng = Rng::new(11);
+        let b = Bending::new(2.0);
+        let r = Bending::with_rest_angle(2.0, 0.7);
+        for _ in 0..50 {
+            let theta = rng.range(0.05, 3.0);
+            let (l1, l2) = (rng.range(0.3, 2.0), rng.range(0.3, 2.0));
+            let q = bent(&mut rng, theta, l1, l2);
+            check_derivatives(&b, &q, 1e-6, 1e-5);
+            check_derivatives(&r, &q, 1e-6, 1e-5);
+        }
+    }
+
+    #[test]
+    fn straight_is_exact_and_finite() {
+        let mut rng = Rng::new(12);
+        let b = Bending::new(2.0);
+        for theta in [0.0, 1e-8, 1e-5] {
+            let q = bent(&mut rng, theta, 1.0, 0.7);
+            assert_all_finite(&b, &q);
+            // The gradient is ~0 here, so the FD truncation error (h^2) is
+            // measured against the checker's 1e-8 floor: keep h small.
+            check_derivatives(&b, &q, 1e-7, 1e-5);
+        }
+        // Exactly straight: zero energy and force; the bending stiffness
+        // transverse to the yarn is positive (not 0/0).
+        let q = local([Vector3::zeros(), Vector3::x(), Vector3::x() * 2.0], [0.0, 1.0, 2.0]);
+        assert_eq!(b.value(&q), 0.0);
+        assert!(b.gradient(&q).norm() < 1e-15);
+        // Moving x1 by y: theta ~ 2y, V = 2 (2y)^2 / 2 = 4 y^2, so d2V/dy1^2 = 8.
+        assert!((b.hessian(&q)[(5, 5)] - 8.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn folded_and_tiny_du_are_finite() {
+        let mut rng = Rng::new(13);
+        let b = Bending::new(2.0);
+        let q = bent(&mut rng, PI - 1e-6, 1.0, 0.8);
+        assert_all_finite(&b, &q);
+        check_derivatives(&b, &q, 1e-9, 1e-4);
+        assert!((b.value(&q) - 2.0 * (PI - 1e-6).powi(2) / 1.8).abs() < 1e-9);
+        // Exactly folded and coincident nodes stay finite.
+        let folded = local([Vector3::zeros(), Vector3::x(), Vector3::zeros()], [0.0, 1.0, 2.0]);
+        assert_all_finite(&b, &folded);
+        let coincident = local([Vector3::zeros(), Vector3::zeros(), Vector3::x()], [0.0, 1.0, 2.0]);
+        assert_all_finite(&b, &coincident);
+        // Tiny material lengths (1e-6): stiff but exact.
+        let q = bent(&mut rng, 0.4, 1e-6, 1e-6);
+        assert_all_finite(&b, &q);
+        check_derivatives(&b, &q, 1e-12, 1e-4);
+    }
+}

@@ -1,0 +1,108 @@
+//! Material parameters of a yarn-level fabric, in SI units.
+//!
+//! Defaults describe a DK-weight wool yarn: radius 0.75 mm, about 2 g per
+//! 4 m. The numbers are order-of-magnitude textile values, chosen so the
+//! relaxed fabric looks right and the Newton solve stays well conditioned:
+//!
+//! - `ks` is the axial stiffness `EA` (N). A loosely twisted wool yarn
+//!   stretches ~1% under 1 N, so `EA ~ 100 N`. Seed 000 eq. 2 gives a
+//!   segment stiffness `ks / du`.
+//! - `kb` is the bending rigidity `EI` (N m^2). Seed 000 eq. 4 is exactly the
+//!   discrete `1/2 EI integral kappa^2` with curvature `2 theta / (du1 + du2)`
+//!   integrated over the Voronoi length `(du1 + du2) / 2`, so `kb = EI`.
+//!   Measured yarn rigidities are 0.01-0.1 cN cm^2 (1e-8..1e-7 N m^2); with
+//!   `rho` below the bending length `(EI / rho g)^(1/3)` is about 2.7 cm, the
+//!   hand-feel of a soft wool yarn.
+//! - `kc_factor`: the EIL contact spring is `kc_factor * ks / du_rest`
+//!   (seed 000 sec. 4.2 uses 1000).
+//! - `kf`, `mu`: friction anchor spring (N/m) and Coulomb coefficient
+//!   (wool on wool 0.2-0.5). `kf` is soft next to the stretch stiffness
+//!   `ks / du ~ 3e4 N/m` so stick-slip does not dominate conditioning; a
+//!   typical 0.05 N friction force then allows 0.05 mm of elastic stick.
+//! - `kw`, `ksh` (J/rad^2): wrapping and crossing-shear stiffnesses, of the
+//!   order of the bending energy of one stitch, `EI / stitch length`.
+//! - Shear jamming: past `shear_jam_angle` (rad, from rest) the stiffness
+//!   grows by `2 * shear_jam_gain` per radian (see `shear.rs`).
+//! - `kp` (N/m): parallel-contact penalty; like the stretch stiffness of a
+//!   short segment so yarns cannot be pushed through each other cheaply.
+//! - `rho` (kg/m): linear density; `gravity` (m/s^2).
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Rod material and contact parameters (SI units, see the module doc).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RodParams {
+    /// Yarn radius (m); the parallel-contact distance is the diameter.
+    pub radius: f64,
+    /// Axial stiffness `EA` (N).
+    pub ks: f64,
+    /// Bending rigidity `EI` (N m^2).
+    pub kb: f64,
+    /// EIL contact stiffness as a multiple of `ks / du_rest`.
+    pub kc_factor: f64,
+    /// Friction anchor spring stiffness (N/m of Eulerian slip).
+    pub kf: f64,
+    /// Coulomb friction coefficient.
+    pub mu: f64,
+    /// Wrapping stiffness (J/rad^2).
+    pub kw: f64,
+    /// Crossing shear stiffness (J/rad^2).
+    pub ksh: f64,
+    /// Shear deviation from rest where jamming starts (rad).
+    pub shear_jam_angle: f64,
+    /// Jamming stiffening rate (1/rad).
+    pub shear_jam_gain: f64,
+    /// Parallel-contact penalty stiffness (N/m).
+    pub kp: f64,
+    /// Linear density (kg/m).
+    pub rho: f64,
+    /// Gravitational acceleration (m/s^2).
+    pub gravity: Vector3<f64>,
+}
+
+impl Default for RodParams {
+    fn default() -> Self {
+        RodParams {
+            radius: 0.75e-3,
+            ks: 100.0,
+            kb: 1e-7,
+            kc_factor: 1000.0,
+            kf: 1e3,
+            mu: 0.3,
+            kw: 3e-5,
+            ksh: 3e-5,
+            shear_jam_angle: 0.5,
+            shear_jam_gain: 50.0,
+            kp: 3e4,
+            rho: 5e-4,
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+        }
+    }
+}
+
+impl RodParams {
+    /// EIL contact spring stiffness `kc = kc_factor * ks / du_rest` (MODEL.md sec. 3).
+    pub fn contact_stiffness(&self, du_rest: f64) -> f64 {
+        self.kc_factor * self.ks / du_rest
+    }
+
+    /// Yarn diameter: the smallest Eulerian distance between parallel contacts.
+    pub fn diameter(&self) -> f64 {
+        2.0 * self.radius
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contact_stiffness_is_thousand_times_segment_stiffness() {
+        let p = RodParams::default();
+        // 1000 * 100 N / 2 mm = 5e7 N/m.
+        assert!((p.contact_stiffness(2e-3) - 5e7).abs() < 1e-6);
+        let bending_length = (p.kb / (p.rho * p.gravity.norm())).cbrt();
+        assert!((0.01..0.05).contains(&bending_length));
+    }
+}

@@ -1,0 +1,220 @@
+//! Wrapping at a stitch contact (Cirio 2017; MODEL.md sec. 3 and 7).
+//!
+//! A stitch contact is two EoL contact nodes `P` and `Q` shared by yarn A
+//! (say the parent loop's head) and yarn B (the child's leg). Between them
+//! A turns around B. The wrap angle is how far A's direction turns *about
+//! B's axis* from where it reaches the contact to where it leaves it:
+//!
+//! ```text
+//! t1 = P - a_prev        (A arriving at P)
+//! t2 = a_next - Q        (A leaving Q)
+//! b  = b_next - b_prev   (B's axis: the chord of B across the contact)
+//! phi = atan2( b^.(t1 x t2),  t1.t2 - (t1.b^)(t2.b^) ),   b^ = b / |b|
+//! V = 1/2 kw wrap(phi - phi_rest)^2
+//! ```
+//!
+//! The two `atan2` arguments are `|p1||p2| sin` and `|p1||p2| cos` of the
+//! signed angle between `p1, p2`, the projections of `t1, t2` onto the plane
+//! normal to `b`: turning along B (A sliding up the leg) does not count as
+//! wrapping, and a signed angle has no kink when A leaves the contact
+//! straight (`phi = 0`), unlike an unsigned one. `P` and `Q` enter only
+//! through `t1, t2`: the turn at `P`, along the arc and at `Q` add up to the
+//! turn from `t1` to `t2`, so coincident `P = Q` is harmless.
+//!
+//! `phi_rest` comes from the initial configuration ([`Wrapping::at_rest`]).
+//! `wrap` maps the difference to `(-pi, pi]`: it only shifts the value, so
+//! the energy is smooth while the wrap stays within half a turn of rest. The
+//! remaining singularities are genuine: A's arriving or leaving direction
+//! parallel to B (the projected angle is undefined; the derivatives are set
+//! to zero there) and `|b| = 0`.
+//!
+//! The terms are products of a dozen dot and cross products, so value,
+//! gradient and Hessian come from second-order forward differentiation
+//! ([`super::jet`]) instead of a hand derivation. A symmetric model adds the
+//! same stencil with the roles of A and B swapped.
+
+use super::jet::{Jet, JetVec3};
+use crate::energy::Stencil;
+use nalgebra::{SMatrix, SVector, Vector3};
+use std::f64::consts::{PI, TAU};
+
+/// Wrapping stencil on `[a_prev(3), p(3), q(3), a_next(3), b_prev(3), b_next(3)]` (N = 18).
+#[derive(Clone, Copy, Debug)]
+pub struct Wrapping {
+    /// Wrapping stiffness (J/rad^2).
+    pub kw: f64,
+    /// Rest wrap angle (rad, signed about `b_next - b_prev`).
+    pub rest_angle: f64,
+}
+
+const A_PREV: usize = 0;
+const P: usize = 3;
+const Q: usize = 6;
+const A_NEXT: usize = 9;
+const B_PREV: usize = 12;
+const B_NEXT: usize = 15;
+
+/// The signed wrap angle of a local vector (module doc), plain `f64`.
+pub fn wrap_angle(q: &SVector<f64, 18>) -> f64 {
+    let at = |i: usize| Vector3::new(q[i], q[i + 1], q[i + 2]);
+    let t1 = at(P) - at(A_PREV);
+    let t2 = at(A_NEXT) - at(Q);
+    let b = (at(B_NEXT) - at(B_PREV)).normalize();
+    b.dot(&t1.cross(&t2)).atan2(t1.dot(&t2) - t1.dot(&b) * t2.dot(&b))
+}
+
+/// `d` shifted by whole turns into `(-pi, pi]`.
+fn wrap_to_half_turn(d: f64) -> f64 {
+    let r = d.rem_euclid(TAU);
+    if r > PI {
+        r - TAU
+    } else {
+        r
+    }
+}
+
+impl Wrapping {
+    pub fn new(kw: f64, rest_angle: f64) -> Self {
+        Wrapping { kw, rest_angle }
+    }
+
+    /// A wrapping stencil at rest in configuration `q0`.
+    pub fn at_rest(kw: f64, q0: &SVector<f64, 18>) -> Self {
+        Wrapping::new(kw, wrap_angle(q0))
+    }
+
+    /// The wrap angle as a jet (exact gradient and Hessian), or `None`
+    /// where it is undefined.
+    fn angle_jet(q: &SVector<f64, 18>) -> Option<Jet<18>> {
+        let x = |i| JetVec3::variables(q, i);
+        let t1 = x(P).sub(&x(A_PREV));
+        let t2 = x(A_NEXT).sub(&x(Q));
+        let b = x(B_NEXT).sub(&x(B_PREV));
+        let b_len2 = b.dot(&b);
+        if b_len2.v <= 0.0 || !b_len2.v.is_finite() {
+            return None;
+        }
+        let bh = b.scale(&b_len2.sqrt().recip());
+        let sin_part = bh.dot(&t1.cross(&t2));
+        let cos_part = t1.dot(&t2) - t1.dot(&bh) * t2.dot(&bh);
+        let r2 = sin_part.v * sin_part.v + cos_part.v * cos_part.v;
+        let scale = t1.dot(&t1).v * t2.dot(&t2).v;
+        // Also rejects NaN (comparisons with NaN are false).
+        if r2.is_nan() || r2 <= 1e-28 * scale {
+            return None;
+        }
+        Some(sin_part.atan2(&cos_part))
+    }
+
+    /// Value, gradient and Hessian together.
+    pub fn evaluate(&self, q: &SVector<f64, 18>) -> (f64, SVector<f64, 18>, SMatrix<f64, 18, 18>) {
+        match Self::angle_jet(q) {
+            Some(phi) => {
+                let d = wrap_to_half_turn(phi.v - self.rest_angle);
+                let e = phi.chain(0.5 * self.kw * d * d, self.kw * d, self.kw);
+                (e.v, e.g, e.h)
+            }
+            None => {
+                let d = wrap_to_half_turn(wrap_angle(q) - self.rest_angle);
+                let v = 0.5 * self.kw * d * d;
+                (if v.is_finite() { v } else { 0.0 }, SVector::zeros(), SMatrix::zeros())
+            }
+        }
+    }
+}
+
+impl Stencil<18> for Wrapping {
+    fn value(&self, q: &SVector<f64, 18>) -> f64 {
+        match Self::angle_jet(q) {
+            Some(phi) => 0.5 * self.kw * wrap_to_half_turn(phi.v - self.rest_angle).powi(2),
+            None => self.evaluate(q).0,
+        }
+    }
+    fn gradient(&self, q: &SVector<f64, 18>) -> SVector<f64, 18> {
+        self.evaluate(q).1
+    }
+    fn hessian(&self, q: &SVector<f64, 18>) -> SMatrix<f64, 18, 18> {
+        self.evaluate(q).2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::energy::fd::check_derivatives;
+    use crate::rod::testutil::{assert_all_finite, put3, Rng};
+
+    /// B along z through the origin; A arrives along +x at P and leaves Q
+    /// turned by `phi` about z, with a component `rise` along B.
+    fn contact(phi: f64, rise: f64, pq: f64) -> SVector<f64, 18> {
+        let mut q = SVector::<f64, 18>::zeros();
+        let p = Vector3::new(0.0, 0.0, 0.0);
+        let qq = Vector3::new(0.0, pq, 0.1 * pq);
+        put3(&mut q, A_PREV, &(p - Vector3::x()));
+        put3(&mut q, P, &p);
+        put3(&mut q, Q, &qq);
+        put3(&mut q, A_NEXT, &(qq + Vector3::new(phi.cos(), phi.sin(), rise) * 1.5));
+        put3(&mut q, B_PREV, &Vector3::new(0.1, 0.0, -1.0));
+        put3(&mut q, B_NEXT, &Vector3::new(0.1, 0.0, 1.0));
+        q
+    }
+
+    #[test]
+    fn wrap_angle_by_hand() {
+        for phi in [0.0, 0.5, 2.0, -2.5] {
+            // Rising along B does not change the wrap angle.
+            for rise in [0.0, 0.7, -3.0] {
+                assert!((wrap_angle(&contact(phi, rise, 0.05)) - phi).abs() < 1e-12);
+            }
+        }
+        // A 120 degree wrap against a 90 degree rest: V = kw/2 (pi/6)^2.
+        let w = Wrapping::new(4.0, PI / 2.0);
+        assert!((w.value(&contact(2.0 * PI / 3.0, 0.3, 0.05)) - 2.0 * (PI / 6.0).powi(2)).abs() < 1e-12);
+        // Flipping B's direction flips the sign of the angle.
+        let mut q = contact(1.0, 0.0, 0.05);
+        q.swap_rows(B_PREV + 2, B_NEXT + 2);
+        assert!((wrap_angle(&q) + 1.0).abs() < 1e-12);
+        // At rest: no force.
+        let r = Wrapping::at_rest(4.0, &q);
+        assert!(r.value(&q) == 0.0 && r.gradient(&q).norm() < 1e-14);
+    }
+
+    #[test]
+    fn derivatives_random() {
+        let mut rng = Rng::new(61);
+        for _ in 0..40 {
+            let q = rng.vector::<18>(1.0);
+            let w = Wrapping::new(2.0, rng.range(-2.0, 2.0));
+            // Stay off the branch where the difference from rest is half a turn.
+            if wrap_to_half_turn(wrap_angle(&q) - w.rest_angle).abs() > 3.0 {
+                continue;
+            }
+            check_derivatives(&w, &q, 1e-6, 1e-5);
+        }
+    }
+
+    #[test]
+    fn near_degenerate_contacts() {
+        let w = Wrapping::new(2.0, 0.0);
+        // Straight through (phi ~ 1e-8): no kink for a signed angle.
+        check_derivatives(&w, &contact(1e-8, 0.2, 0.05), 1e-7, 1e-5);
+        // Folded back (phi ~ pi - 1e-6), against a rest angle near it.
+        let folded = Wrapping::new(2.0, PI - 0.1);
+        check_derivatives(&folded, &contact(PI - 1e-6, 0.2, 0.05), 1e-8, 1e-5);
+        // Coincident contact nodes P = Q.
+        let q = contact(1.2, 0.2, 0.0);
+        assert_all_finite(&w, &q);
+        check_derivatives(&w, &q, 1e-6, 1e-5);
+        // A arriving along B (projection undefined), zero-length axis, and
+        // coincident a_prev = P: finite.
+        let mut along = contact(1.0, 0.0, 0.05);
+        put3(&mut along, A_PREV, &Vector3::new(0.0, 0.0, -1.0));
+        assert_all_finite(&w, &along);
+        let mut no_axis = contact(1.0, 0.0, 0.05);
+        put3(&mut no_axis, B_NEXT, &Vector3::new(0.1, 0.0, -1.0));
+        assert_all_finite(&w, &no_axis);
+        let mut short = contact(1.0, 0.0, 0.05);
+        put3(&mut short, A_PREV, &Vector3::zeros());
+        assert_all_finite(&w, &short);
+    }
+}
