@@ -1,0 +1,249 @@
+//! Generic assembly: gather, evaluate and scatter every stencil of every
+//! energy into one global gradient and sparse Hessian (the ipc-toolkit
+//! pattern, see `energy` module docs).
+//!
+//! Design decisions:
+//! - **The global vector holds every coordinate**, fixed ones included. A
+//!   stencil's local coordinate `i` is global coordinate `dofs[i]`; a separate
+//!   `free` mask says which rows are unknowns. Cancelled rows (pinned
+//!   coordinates, Lagrangian coordinates of an EIL node) get zero gradient
+//!   and an identity row and column, so the system size and the sparsity
+//!   pattern never change when a node switches (MODEL.md sec. 4, seed 000
+//!   sec. 4.3). Because the pattern ignores the mask, the direct solver's
+//!   symbolic analysis survives EIL switches too.
+//! - **Precomputed value slots.** After the pattern is built, [`bind`] looks
+//!   up once, per stencil, where each of its `N*N` local entries lives in
+//!   `CsrMatrix::values`. Every Newton iteration then scatters without a
+//!   search.
+//! - **Type erasure per set.** A [`StencilSet`] is generic over its stencil
+//!   type and size; [`AnyStencilSet`] hides both so the caller holds all
+//!   energies in one `Vec<Box<dyn AnyStencilSet>>`.
+//!
+//! [`bind`]: AnyStencilSet::bind
+
+use crate::energy::psd;
+use crate::energy::Stencil;
+use crate::solver::sparse::CsrMatrix;
+use nalgebra::SVector;
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum AssemblyError {
+    #[error("stencil set '{set}': entry ({row}, {col}) is not in the Hessian pattern")]
+    MissingEntry { set: String, row: usize, col: usize },
+    #[error("stencil set '{set}' was not bound to the current Hessian pattern")]
+    Unbound { set: String },
+    #[error("stencil set '{set}': {stencils} stencils but {dofs} dof maps")]
+    LengthMismatch { set: String, stencils: usize, dofs: usize },
+    #[error("stencil set '{set}': coordinate {index} out of range for {n} coordinates")]
+    OutOfRange { set: String, index: usize, n: usize },
+}
+
+/// A type-erased stencil set, as the Newton problem holds it.
+pub trait AnyStencilSet {
+    /// Name for error messages and timing reports.
+    fn name(&self) -> &str;
+    fn len(&self) -> usize;
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Checks the dof maps against a system of `n` coordinates.
+    fn validate(&self, n: usize) -> Result<(), AssemblyError>;
+    /// Appends every (row, col) this set can write, both triangles.
+    fn pattern_entries(&self, out: &mut Vec<(u32, u32)>);
+    /// Caches the value slot of every local entry in `h` (call after the pattern changes).
+    fn bind(&mut self, h: &CsrMatrix) -> Result<(), AssemblyError>;
+    /// Sum of the stencil values at `q`.
+    fn energy(&self, q: &[f64]) -> f64;
+    /// Adds gradient and Hessian into the free rows and columns only.
+    fn accumulate(
+        &self,
+        q: &[f64],
+        free: &[bool],
+        grad: &mut [f64],
+        h: &mut CsrMatrix,
+        project_psd: bool,
+    ) -> Result<(), AssemblyError>;
+}
+
+/// Many stencils of one kind and their global coordinate maps.
+pub struct StencilSet<S, const N: usize> {
+    pub name: String,
+    pub stencils: Vec<S>,
+    /// `dofs[k][i]`: global coordinate of local coordinate `i` of stencil `k`.
+    pub dofs: Vec<[u32; N]>,
+    /// `N*N` value positions per stencil, row-major; empty until bound.
+    slots: Vec<usize>,
+    bound_nnz: usize,
+}
+
+impl<S: Stencil<N>, const N: usize> StencilSet<S, N> {
+    pub fn new(name: impl Into<String>, stencils: Vec<S>, dofs: Vec<[u32; N]>) -> Self {
+        StencilSet {
+            name: name.into(),
+            stencils,
+            dofs,
+            slots: Vec::new(),
+            bound_nnz: 0,
+        }
+    }
+
+    fn gather(q: &[f64], dofs: &[u32; N]) -> SVector<f64, N> {
+        SVector::<f64, N>::from_fn(|i, _| q[dofs[i] as usize])
+    }
+
+    fn is_bound_to(&self, h: &CsrMatrix) -> bool {
+        self.slots.len() == self.stencils.len() * N * N && self.bound_nnz == h.nnz()
+    }
+}
+
+impl<S: Stencil<N>, const N: usize> AnyStencilSet for StencilSet<S, N> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn len(&self) -> usize {
+        self.stencils.len()
+    }
+
+    fn validate(&self, n: usize) -> Result<(), AssemblyError> {
+        if self.stencils.len() != self.dofs.len() {
+            return Err(AssemblyError::LengthMismatch {
+                set: self.name.clone(),
+                stencils: self.stencils.len(),
+                dofs: self.dofs.len(),
+            });
+        }
+        match self.dofs.iter().flatten().find(|&&d| d as usize >= n) {
+            Some(&d) => Err(AssemblyError::OutOfRange {
+                set: self.name.clone(),
+                index: d as usize,
+                n,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    fn pattern_entries(&self, out: &mut Vec<(u32, u32)>) {
+        out.reserve(self.dofs.len() * N * N);
+        for d in &self.dofs {
+            for &r in d {
+                out.extend(d.iter().map(|&c| (r, c)));
+            }
+        }
+    }
+
+    fn bind(&mut self, h: &CsrMatrix) -> Result<(), AssemblyError> {
+        self.validate(h.n)?;
+        let mut slots = Vec::with_capacity(self.dofs.len() * N * N);
+        for d in &self.dofs {
+            for &r in d {
+                for &c in d {
+                    let slot = h.find(r as usize, c as usize).ok_or(AssemblyError::MissingEntry {
+                        set: self.name.clone(),
+                        row: r as usize,
+                        col: c as usize,
+                    })?;
+                    slots.push(slot);
+                }
+            }
+        }
+        self.slots = slots;
+        self.bound_nnz = h.nnz();
+        Ok(())
+    }
+
+    fn energy(&self, q: &[f64]) -> f64 {
+        self.stencils
+            .iter()
+            .zip(&self.dofs)
+            .map(|(s, d)| s.value(&Self::gather(q, d)))
+            .sum()
+    }
+
+    fn accumulate(
+        &self,
+        q: &[f64],
+        free: &[bool],
+        grad: &mut [f64],
+        h: &mut CsrMatrix,
+        project_psd: bool,
+    ) -> Result<(), AssemblyError> {
+        if !self.is_bound_to(h) {
+            return Err(AssemblyError::Unbound { set: self.name.clone() });
+        }
+        for (k, (s, d)) in self.stencils.iter().zip(&self.dofs).enumerate() {
+            let x = Self::gather(q, d);
+            let g = s.gradient(&x);
+            let mut hl = s.hessian(&x);
+            if project_psd {
+                hl = psd::project_psd(&hl);
+            }
+            let slots = &self.slots[k * N * N..(k + 1) * N * N];
+            for i in 0..N {
+                let r = d[i] as usize;
+                if !free[r] {
+                    continue;
+                }
+                grad[r] += g[i];
+                for j in 0..N {
+                    if free[d[j] as usize] {
+                        h.values[slots[i * N + j]] += hl[(i, j)];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Hessian pattern of `n` coordinates for the given sets, with every diagonal
+/// entry present so cancelled rows can hold their identity.
+pub fn hessian_pattern(n: usize, sets: &[Box<dyn AnyStencilSet>]) -> CsrMatrix {
+    let mut entries: Vec<(u32, u32)> = (0..n as u32).map(|i| (i, i)).collect();
+    for s in sets {
+        s.pattern_entries(&mut entries);
+    }
+    CsrMatrix::from_pattern(n, entries)
+}
+
+/// Binds every set to `h` (after [`hessian_pattern`] or any pattern change).
+pub fn bind_all(sets: &mut [Box<dyn AnyStencilSet>], h: &CsrMatrix) -> Result<(), AssemblyError> {
+    sets.iter_mut().try_for_each(|s| s.bind(h))
+}
+
+/// Total energy of all sets at `q`.
+pub fn total_energy(sets: &[Box<dyn AnyStencilSet>], q: &[f64]) -> f64 {
+    sets.iter().map(|s| s.energy(q)).sum()
+}
+
+/// Zeroes `grad` and `h`, sums every set, then cancels the fixed rows.
+pub fn assemble(
+    sets: &[Box<dyn AnyStencilSet>],
+    q: &[f64],
+    free: &[bool],
+    grad: &mut [f64],
+    h: &mut CsrMatrix,
+    project_psd: bool,
+) -> Result<(), AssemblyError> {
+    grad.fill(0.0);
+    h.values.fill(0.0);
+    for s in sets {
+        s.accumulate(q, free, grad, h, project_psd)?;
+    }
+    cancel_fixed_rows(free, grad, h);
+    Ok(())
+}
+
+/// Puts 1 on the diagonal of every non-free row (whose other entries the
+/// scatter left at zero) and zeroes its gradient, so `dq` is 0 there.
+pub fn cancel_fixed_rows(free: &[bool], grad: &mut [f64], h: &mut CsrMatrix) {
+    for (r, _) in free.iter().enumerate().filter(|(_, &f)| !f) {
+        grad[r] = 0.0;
+        if let Some(k) = h.find(r, r) {
+            h.values[k] = 1.0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

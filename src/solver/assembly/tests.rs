@@ -1,0 +1,114 @@
+use super::*;
+use crate::solver::test_stencils::{Gravity, Spring};
+use nalgebra::DMatrix;
+
+/// Four 3D nodes, five springs (some compressed, so the exact Hessian is
+/// indefinite), gravity on every node; node 0 pinned.
+fn scene() -> (Vec<Box<dyn AnyStencilSet>>, Vec<f64>, Vec<bool>) {
+    let pairs = [(0u32, 1u32), (1, 2), (2, 3), (0, 2), (1, 3)];
+    let springs = pairs.iter().map(|_| Spring { k: 5.0, rest: 1.5 }).collect();
+    let dofs = pairs
+        .iter()
+        .map(|&(a, b)| [3 * a, 3 * a + 1, 3 * a + 2, 3 * b, 3 * b + 1, 3 * b + 2])
+        .collect();
+    let gravity = (0..4).map(|_| Gravity { mg: 0.7 }).collect();
+    let gdofs = (0..4u32).map(|a| [3 * a, 3 * a + 1, 3 * a + 2]).collect();
+    let sets: Vec<Box<dyn AnyStencilSet>> = vec![
+        Box::new(StencilSet::new("springs", springs, dofs)),
+        Box::new(StencilSet::new("gravity", gravity, gdofs)),
+    ];
+    let q = vec![0.0, 0.0, 0.0, 1.0, 0.1, 0.0, 1.1, 0.9, 0.2, 0.2, 1.3, -0.1];
+    let mut free = vec![true; 12];
+    free[..3].fill(false);
+    (sets, q, free)
+}
+
+fn dense(h: &CsrMatrix) -> DMatrix<f64> {
+    DMatrix::from_fn(h.n, h.n, |r, c| h.find(r, c).map_or(0.0, |k| h.values[k]))
+}
+
+fn assembled(sets: &[Box<dyn AnyStencilSet>], q: &[f64], free: &[bool], h: &mut CsrMatrix, psd: bool) -> Vec<f64> {
+    let mut g = vec![0.0; q.len()];
+    assemble(sets, q, free, &mut g, h, psd).unwrap();
+    g
+}
+
+#[test]
+fn gradient_and_hessian_match_fd_of_summed_energy() {
+    let (mut sets, q, free) = scene();
+    let mut h = hessian_pattern(q.len(), &sets);
+    bind_all(&mut sets, &h).unwrap();
+    let g = assembled(&sets, &q, &free, &mut h, false);
+    let hd = dense(&h);
+    let eps = 1e-6;
+    for i in (0..q.len()).filter(|&i| free[i]) {
+        let (mut qp, mut qm) = (q.clone(), q.clone());
+        qp[i] += eps;
+        qm[i] -= eps;
+        let fd = (total_energy(&sets, &qp) - total_energy(&sets, &qm)) / (2.0 * eps);
+        assert!(
+            (fd - g[i]).abs() < 1e-6 * fd.abs().max(1.0),
+            "grad[{i}] {} vs fd {fd}",
+            g[i]
+        );
+        let mut scratch = h.clone();
+        let gp = assembled(&sets, &qp, &free, &mut scratch, false);
+        let gm = assembled(&sets, &qm, &free, &mut scratch, false);
+        for j in (0..q.len()).filter(|&j| free[j]) {
+            let fd = (gp[j] - gm[j]) / (2.0 * eps);
+            assert!((fd - hd[(j, i)]).abs() < 1e-5 * fd.abs().max(1.0), "H[{j},{i}]");
+        }
+    }
+    // The summed gradient is not trivially per-set: gravity contributes too.
+    assert!((g[5] - 0.7).abs() > 1e-3);
+}
+
+#[test]
+fn cancelled_rows_are_identity_with_zero_gradient() {
+    let (mut sets, q, free) = scene();
+    let mut h = hessian_pattern(q.len(), &sets);
+    bind_all(&mut sets, &h).unwrap();
+    let g = assembled(&sets, &q, &free, &mut h, true);
+    let hd = dense(&h);
+    for r in 0..3 {
+        assert_eq!(g[r], 0.0);
+        for c in 0..q.len() {
+            let expect = if r == c { 1.0 } else { 0.0 };
+            assert_eq!(hd[(r, c)], expect, "row ({r},{c})");
+            assert_eq!(hd[(c, r)], expect, "col ({c},{r})");
+        }
+    }
+    // Node 0 is still coupled to nodes 1 and 2 in the pattern: cancelling
+    // writes zeros, it does not change the structure.
+    assert!(h.find(0, 3).is_some());
+}
+
+#[test]
+fn projection_makes_the_assembled_hessian_psd() {
+    let (mut sets, q, free) = scene();
+    let mut h = hessian_pattern(q.len(), &sets);
+    bind_all(&mut sets, &h).unwrap();
+    assembled(&sets, &q, &free, &mut h, false);
+    let exact_min = dense(&h).symmetric_eigen().eigenvalues.min();
+    assert!(exact_min < -1e-3, "scene should be indefinite, min eig {exact_min}");
+    assembled(&sets, &q, &free, &mut h, true);
+    let projected_min = dense(&h).symmetric_eigen().eigenvalues.min();
+    assert!(projected_min > -1e-10, "{projected_min}");
+}
+
+#[test]
+fn unbound_and_bad_maps_are_errors() {
+    let (sets, q, free) = scene();
+    let mut h = hessian_pattern(q.len(), &sets);
+    let mut g = vec![0.0; q.len()];
+    assert!(matches!(
+        assemble(&sets, &q, &free, &mut g, &mut h, false),
+        Err(AssemblyError::Unbound { .. })
+    ));
+    let mut bad = StencilSet::new("bad", vec![Gravity { mg: 1.0 }], vec![[0, 1, 99]]);
+    assert!(matches!(bad.bind(&h), Err(AssemblyError::OutOfRange { index: 99, .. })));
+    // A pattern without the set's couplings is reported, not panicked on.
+    let small = CsrMatrix::from_pattern(12, (0..12).map(|i| (i, i)));
+    let mut springs = StencilSet::new("s", vec![Spring { k: 1.0, rest: 1.0 }], vec![[0, 1, 2, 3, 4, 5]]);
+    assert!(matches!(springs.bind(&small), Err(AssemblyError::MissingEntry { .. })));
+}

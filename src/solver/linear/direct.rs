@@ -1,0 +1,452 @@
+//! Sparse direct solver: faer's supernodal/simplicial Cholesky on the lower
+//! triangle of the Newton matrix (MODEL.md sec. 4, "Linear solves").
+//!
+//! Design decisions:
+//! - **Symbolic analysis once per pattern.** The AMD ordering and the
+//!   elimination structure depend only on where the nonzeros are. The Newton
+//!   matrix keeps its pattern for as long as the node assignment does (EIL
+//!   rows are cancelled in place, never removed), so every Newton iteration
+//!   after the first is a numeric refactorization only. The pattern is
+//!   compared entry by entry (a memcmp, negligible next to a factorization).
+//! - **Lower triangle by a cached gather.** `CsrMatrix` stores both triangles,
+//!   row-major. For a symmetric matrix, row `j` restricted to columns `>= j` is
+//!   column `j` of the lower triangle, so the CSC lower triangle is the upper
+//!   half of every CSR row, already sorted. Which CSR value goes where is
+//!   computed once with the symbolic analysis; refills are a straight gather.
+//! - **Fallbacks for a minimiser.** Plain LLT first. When it fails (a singular
+//!   PSD matrix from free rigid modes, or an indefinite one), the diagonal is
+//!   shifted by a growing multiple of its largest entry and LLT retried: a
+//!   positive definite model keeps `dq` a descent direction, which is what
+//!   Newton needs. An unshifted LDLT is the last resort, for symmetric
+//!   indefinite but nonsingular systems. Every solve is checked by its
+//!   residual against the matrix actually factored, because a pivot that is
+//!   tiny rather than negative passes LLT and returns garbage.
+
+use crate::solver::sparse::CsrMatrix;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Side};
+
+/// Tuning of the fallback chain; see the module docs.
+#[derive(Clone, Copy, Debug)]
+pub struct DirectParams {
+    /// Number of shifted LLT retries after a failed plain LLT.
+    pub shift_tries: usize,
+    /// First shift, relative to the largest absolute diagonal entry.
+    pub initial_shift: f64,
+    /// Factor between successive shifts.
+    pub shift_growth: f64,
+    /// Try an unshifted LDLT when every LLT failed.
+    pub ldlt_last_resort: bool,
+    /// A solve whose `|A x - b| / |b|` exceeds this counts as a failed factorization.
+    pub max_rel_residual: f64,
+}
+
+impl Default for DirectParams {
+    fn default() -> Self {
+        DirectParams {
+            shift_tries: 6,
+            initial_shift: 1e-10,
+            shift_growth: 100.0,
+            ldlt_last_resort: true,
+            max_rel_residual: 1e-6,
+        }
+    }
+}
+
+/// Which factorization produced the current factor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FactorKind {
+    Llt,
+    /// LLT of `A + shift I`.
+    ShiftedLlt {
+        shift: f64,
+    },
+    Ldlt,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum DirectError {
+    #[error("matrix is {n}x{n} but the right-hand side has length {len}")]
+    Dimension { n: usize, len: usize },
+    #[error("symbolic Cholesky analysis failed: {0}")]
+    Symbolic(String),
+    #[error("no factorization succeeded (LLT, {shift_tries} shifted LLT, LDLT)")]
+    NotFactorizable { shift_tries: usize },
+    #[error("solve called before a successful factorization")]
+    NotFactorized,
+}
+
+/// Lower-triangle CSC copy of a `CsrMatrix` plus its symbolic analysis.
+struct Analysis {
+    row_ptr: Vec<usize>,
+    col_idx: Vec<u32>,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// `lower[k]` is the position in `CsrMatrix::values` of lower entry `k`.
+    source: Vec<usize>,
+    /// Position in the lower values of each column's diagonal (for shifts).
+    diag: Vec<Option<usize>>,
+    symbolic: SymbolicCholesky<usize>,
+}
+
+/// Sparse Cholesky with symbolic reuse; see the module docs.
+pub struct DirectSolver {
+    pub params: DirectParams,
+    analysis: Option<Box<Analysis>>,
+    lower_values: Vec<f64>,
+    factor_values: Vec<f64>,
+    factor: Option<FactorKind>,
+    symbolic_count: usize,
+}
+
+impl Default for DirectSolver {
+    fn default() -> Self {
+        Self::new(DirectParams::default())
+    }
+}
+
+impl DirectSolver {
+    pub fn new(params: DirectParams) -> Self {
+        DirectSolver {
+            params,
+            analysis: None,
+            lower_values: Vec::new(),
+            factor_values: Vec::new(),
+            factor: None,
+            symbolic_count: 0,
+        }
+    }
+
+    /// How many symbolic analyses have run (one per distinct pattern seen in a row).
+    pub fn symbolic_count(&self) -> usize {
+        self.symbolic_count
+    }
+
+    /// Runs the symbolic analysis unless `a` has the pattern analysed last.
+    /// Returns whether a new analysis was needed.
+    pub fn analyze(&mut self, a: &CsrMatrix) -> Result<bool, DirectError> {
+        if let Some(an) = &self.analysis {
+            if an.row_ptr == a.row_ptr && an.col_idx == a.col_idx {
+                return Ok(false);
+            }
+        }
+        self.analysis = None;
+        self.factor = None;
+        let n = a.n;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        let mut source = Vec::new();
+        let mut diag = vec![None; n];
+        col_ptr.push(0);
+        for (j, d) in diag.iter_mut().enumerate() {
+            for k in a.row_ptr[j]..a.row_ptr[j + 1] {
+                let i = a.col_idx[k] as usize;
+                if i >= j {
+                    if i == j {
+                        *d = Some(row_idx.len());
+                    }
+                    row_idx.push(i);
+                    source.push(k);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_cholesky(sym, Side::Lower, SymmetricOrdering::Amd, Default::default())
+            .map_err(|e| DirectError::Symbolic(format!("{e:?}")))?;
+        self.symbolic_count += 1;
+        self.lower_values = vec![0.0; row_idx.len()];
+        self.factor_values = vec![0.0; symbolic.len_val()];
+        self.analysis = Some(Box::new(Analysis {
+            row_ptr: a.row_ptr.clone(),
+            col_idx: a.col_idx.clone(),
+            col_ptr,
+            row_idx,
+            source,
+            diag,
+            symbolic,
+        }));
+        Ok(true)
+    }
+
+    /// Numeric factorization of `a` (symbolic analysis first if the pattern changed).
+    pub fn factorize(&mut self, a: &CsrMatrix) -> Result<FactorKind, DirectError> {
+        self.analyze(a)?;
+        self.factor = None;
+        let max_diag = a
+            .diagonal()
+            .iter()
+            .fold(0.0f64, |m, d| m.max(d.abs()))
+            .max(f64::MIN_POSITIVE);
+        let mut attempts: Vec<FactorKind> = vec![FactorKind::Llt];
+        let mut shift = self.params.initial_shift * max_diag;
+        for _ in 0..self.params.shift_tries {
+            attempts.push(FactorKind::ShiftedLlt { shift });
+            shift *= self.params.shift_growth;
+        }
+        if self.params.ldlt_last_resort {
+            attempts.push(FactorKind::Ldlt);
+        }
+        for kind in attempts {
+            if self.try_factor(a, kind) && self.passes_residual_probe(a, kind) {
+                self.factor = Some(kind);
+                return Ok(kind);
+            }
+        }
+        Err(DirectError::NotFactorizable {
+            shift_tries: self.params.shift_tries,
+        })
+    }
+
+    fn try_factor(&mut self, a: &CsrMatrix, kind: FactorKind) -> bool {
+        let Some(an) = &self.analysis else { return false };
+        for (dst, &src) in self.lower_values.iter_mut().zip(&an.source) {
+            *dst = a.values[src];
+        }
+        if let FactorKind::ShiftedLlt { shift } = kind {
+            // A structurally missing diagonal cannot be shifted; LLT will fail there.
+            for &d in an.diag.iter().flatten() {
+                self.lower_values[d] += shift;
+            }
+        }
+        let n = a.n;
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &an.col_ptr, None, &an.row_idx);
+        let mat = SparseColMatRef::new(sym, &self.lower_values);
+        let par = faer::get_global_parallelism();
+        let ok = match kind {
+            FactorKind::Llt | FactorKind::ShiftedLlt { .. } => {
+                let req = an
+                    .symbolic
+                    .factorize_numeric_llt_scratch::<f64>(par, Default::default());
+                let Ok(mut mem) = MemBuffer::try_new(req) else {
+                    return false;
+                };
+                an.symbolic
+                    .factorize_numeric_llt(
+                        &mut self.factor_values,
+                        mat,
+                        Side::Lower,
+                        LltRegularization::default(),
+                        par,
+                        MemStack::new(&mut mem),
+                        Default::default(),
+                    )
+                    .is_ok()
+            }
+            FactorKind::Ldlt => {
+                let req = an
+                    .symbolic
+                    .factorize_numeric_ldlt_scratch::<f64>(par, Default::default());
+                let Ok(mut mem) = MemBuffer::try_new(req) else {
+                    return false;
+                };
+                an.symbolic
+                    .factorize_numeric_ldlt(
+                        &mut self.factor_values,
+                        mat,
+                        Side::Lower,
+                        LdltRegularization::default(),
+                        par,
+                        MemStack::new(&mut mem),
+                        Default::default(),
+                    )
+                    .is_ok()
+            }
+        };
+        ok && self.factor_values.iter().all(|v| v.is_finite())
+    }
+
+    /// Solves with a fixed probe right-hand side and checks the residual, to
+    /// catch factorizations that "succeeded" on a numerically singular matrix.
+    fn passes_residual_probe(&self, a: &CsrMatrix, kind: FactorKind) -> bool {
+        let n = a.n;
+        if n == 0 {
+            return true;
+        }
+        let b: Vec<f64> = (0..n).map(|i| 1.0 + 0.5 * ((i * 7919) % 13) as f64 / 13.0).collect();
+        let mut x = b.clone();
+        if self.solve_with(kind, &mut x).is_err() {
+            return false;
+        }
+        let shift = match kind {
+            FactorKind::ShiftedLlt { shift } => shift,
+            _ => 0.0,
+        };
+        let mut ax = vec![0.0; n];
+        a.mul_vec(&x, &mut ax);
+        let (mut rr, mut bb) = (0.0, 0.0);
+        for i in 0..n {
+            let r = ax[i] + shift * x[i] - b[i];
+            rr += r * r;
+            bb += b[i] * b[i];
+        }
+        let rel = (rr / bb).sqrt();
+        rel.is_finite() && rel <= self.params.max_rel_residual
+    }
+
+    /// Which factorization is current, if any.
+    pub fn factor_kind(&self) -> Option<FactorKind> {
+        self.factor
+    }
+
+    /// Overwrites `rhs` with `A^-1 rhs` using the current factorization.
+    pub fn solve_in_place(&self, rhs: &mut [f64]) -> Result<(), DirectError> {
+        let kind = self.factor.ok_or(DirectError::NotFactorized)?;
+        self.solve_with(kind, rhs)
+    }
+
+    fn solve_with(&self, kind: FactorKind, rhs: &mut [f64]) -> Result<(), DirectError> {
+        let an = self.analysis.as_ref().ok_or(DirectError::NotFactorized)?;
+        let n = an.symbolic.nrows();
+        if rhs.len() != n {
+            return Err(DirectError::Dimension { n, len: rhs.len() });
+        }
+        let par = faer::get_global_parallelism();
+        let mut mem = MemBuffer::new(an.symbolic.solve_in_place_scratch::<f64>(1, par));
+        let stack = MemStack::new(&mut mem);
+        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        match kind {
+            FactorKind::Llt | FactorKind::ShiftedLlt { .. } => {
+                LltRef::new(&an.symbolic, &self.factor_values).solve_in_place_with_conj(Conj::No, x, par, stack)
+            }
+            FactorKind::Ldlt => {
+                LdltRef::new(&an.symbolic, &self.factor_values).solve_in_place_with_conj(Conj::No, x, par, stack)
+            }
+        }
+        Ok(())
+    }
+
+    /// Factorizes `a` and solves `a x = b`.
+    pub fn solve(&mut self, a: &CsrMatrix, b: &[f64], x: &mut [f64]) -> Result<FactorKind, DirectError> {
+        if b.len() != a.n || x.len() != a.n {
+            return Err(DirectError::Dimension {
+                n: a.n,
+                len: b.len().min(x.len()),
+            });
+        }
+        let kind = self.factorize(a)?;
+        x.copy_from_slice(b);
+        self.solve_in_place(x)?;
+        Ok(kind)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{DMatrix, DVector};
+
+    /// 2D 5-point Laplacian on an `m x m` grid plus `shift` on the diagonal.
+    fn grid_laplacian(m: usize, shift: f64) -> CsrMatrix {
+        let idx = |i: usize, j: usize| (i * m + j) as u32;
+        let mut e = Vec::new();
+        for i in 0..m {
+            for j in 0..m {
+                e.push((idx(i, j), idx(i, j)));
+                if i + 1 < m {
+                    e.push((idx(i, j), idx(i + 1, j)));
+                    e.push((idx(i + 1, j), idx(i, j)));
+                }
+                if j + 1 < m {
+                    e.push((idx(i, j), idx(i, j + 1)));
+                    e.push((idx(i, j + 1), idx(i, j)));
+                }
+            }
+        }
+        let mut a = CsrMatrix::from_pattern(m * m, e);
+        for r in 0..a.n {
+            let deg = (a.row_ptr[r + 1] - a.row_ptr[r] - 1) as f64;
+            for k in a.row_ptr[r]..a.row_ptr[r + 1] {
+                a.values[k] = if a.col_idx[k] as usize == r { deg + shift } else { -1.0 };
+            }
+        }
+        a
+    }
+
+    fn dense(a: &CsrMatrix) -> DMatrix<f64> {
+        DMatrix::from_fn(a.n, a.n, |r, c| a.find(r, c).map_or(0.0, |k| a.values[k]))
+    }
+
+    fn max_err(x: &[f64], y: &DVector<f64>) -> f64 {
+        x.iter().zip(y.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn matches_dense_solve_and_reuses_symbolic() {
+        let mut a = grid_laplacian(9, 0.3);
+        let b: Vec<f64> = (0..a.n).map(|i| ((i * 31) % 17) as f64 - 8.0).collect();
+        let mut s = DirectSolver::default();
+        let mut x = vec![0.0; a.n];
+        assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Llt);
+        let exact = dense(&a).lu().solve(&DVector::from_vec(b.clone())).unwrap();
+        assert!(max_err(&x, &exact) < 1e-10);
+
+        // New values, same pattern: numeric refactorization only.
+        for (k, v) in a.values.iter_mut().enumerate() {
+            *v *= 1.0 + 0.1 * (k % 3) as f64;
+        }
+        // Keep symmetry: rebuild from the upper triangle.
+        let d = dense(&a);
+        for r in 0..a.n {
+            for k in a.row_ptr[r]..a.row_ptr[r + 1] {
+                let c = a.col_idx[k] as usize;
+                a.values[k] = if r <= c { d[(r, c)] } else { d[(c, r)] };
+            }
+        }
+        s.solve(&a, &b, &mut x).unwrap();
+        assert_eq!(s.symbolic_count(), 1);
+        let exact = dense(&a).lu().solve(&DVector::from_vec(b.clone())).unwrap();
+        assert!(max_err(&x, &exact) < 1e-10);
+
+        // A different pattern triggers a new analysis.
+        let a2 = grid_laplacian(7, 1.0);
+        let b2 = vec![1.0; a2.n];
+        let mut x2 = vec![0.0; a2.n];
+        s.solve(&a2, &b2, &mut x2).unwrap();
+        assert_eq!(s.symbolic_count(), 2);
+        let exact2 = dense(&a2).lu().solve(&DVector::from_vec(b2)).unwrap();
+        assert!(max_err(&x2, &exact2) < 1e-10);
+    }
+
+    #[test]
+    fn singular_psd_falls_back_to_shift() {
+        // Pure Neumann Laplacian: PSD with the constant vector in its kernel.
+        let a = grid_laplacian(6, 0.0);
+        let b: Vec<f64> = (0..a.n).map(|i| if i % 2 == 0 { 1.0 } else { -1.0 }).collect();
+        let mut s = DirectSolver::default();
+        let mut x = vec![0.0; a.n];
+        let kind = s.solve(&a, &b, &mut x).unwrap();
+        let FactorKind::ShiftedLlt { shift } = kind else {
+            panic!("expected a shifted LLT, got {kind:?}")
+        };
+        // The returned x solves the shifted (positive definite) system.
+        let ad = dense(&a) + DMatrix::identity(a.n, a.n) * shift;
+        let r = &ad * DVector::from_vec(x.clone()) - DVector::from_vec(b.clone());
+        assert!(r.norm() < 1e-6 * DVector::from_vec(b).norm());
+    }
+
+    #[test]
+    fn indefinite_uses_ldlt_when_shifts_disabled() {
+        let mut a = grid_laplacian(5, 4.5);
+        // Flip the sign of a few diagonal entries: symmetric, nonsingular, indefinite.
+        for r in [0, 7, 13] {
+            let k = a.find(r, r).unwrap();
+            a.values[k] = -a.values[k];
+        }
+        let b: Vec<f64> = (0..a.n).map(|i| (i as f64).sin()).collect();
+        let mut s = DirectSolver::new(DirectParams {
+            shift_tries: 0,
+            ..Default::default()
+        });
+        let mut x = vec![0.0; a.n];
+        assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Ldlt);
+        let exact = dense(&a).lu().solve(&DVector::from_vec(b)).unwrap();
+        assert!(max_err(&x, &exact) < 1e-9);
+    }
+}

@@ -1,0 +1,195 @@
+//! Projected Newton minimisation of `E(q)` over the free coordinates
+//! (MODEL.md sec. 4; seed 000 sec. 4.3).
+//!
+//! One iteration: assemble `g` and the (per-stencil PSD-projected) Hessian
+//! `H`, solve `H dq = -g`, cap the step at the CCD bound, backtrack on `E`.
+//! Design decisions:
+//! - **Fixed-size system.** `q` holds every coordinate; the problem cancels
+//!   non-free rows (identity, zero gradient). Newton additionally zeroes
+//!   `dq` there, so a pinned coordinate cannot drift even under an inexact
+//!   CG solve.
+//! - **Two stopping tests.** The Newton decrement `dq^T H dq / 2` estimates
+//!   the remaining energy decrease, in energy units; the relative residual
+//!   `|g_free| / max(|g_0|, floor)` is scale-free and is what the time-step
+//!   controller reads. Either one ends the solve.
+//! - **Robust fallbacks rather than errors.** If the linear solve fails or
+//!   returns a non-descent direction (an LDLT of an indefinite matrix, a CG
+//!   stopped on negative curvature), the step falls back to steepest descent
+//!   scaled by the curvature along `-g`. If the line search rejects a Newton
+//!   direction, steepest descent gets one more try before reporting failure.
+//!   A failure is a [`NewtonStatus`], not an error: the adaptive time step
+//!   (MODEL.md sec. 4) halves `h` on it.
+//! - **Adaptive damping.** Without inertia (quasi-static relaxation) the
+//!   projected Hessian is often singular: a compressed spring or a straight
+//!   rod has no transverse stiffness after PSD projection, so the Newton step
+//!   is huge along those modes and the line search cuts it to nothing.
+//!   Levenberg-Marquardt damping `H + mu I` on the free rows bridges Newton
+//!   and scaled steepest descent: `mu` grows after a step that needed
+//!   backtracking or a gradient fallback and shrinks (to exactly 0) after
+//!   full steps, so the final iterations are undamped and converge
+//!   quadratically. The decrement test only applies to undamped steps, since
+//!   damping shrinks `dq` and would fake convergence.
+//! - **Bounded.** The loop is capped by `max_iterations`; the line search by
+//!   its own backtrack count; cancellation is polled between iterations.
+
+use crate::solver::assembly::AssemblyError;
+use crate::solver::line_search::LineSearchParams;
+use crate::solver::sparse::CsrMatrix;
+use std::sync::atomic::AtomicBool;
+
+/// What Newton minimises. `q` always holds every coordinate (see module docs).
+pub trait Problem {
+    /// `E(q)`; may be `+inf` or NaN where `q` is infeasible (rejected by the line search).
+    fn energy(&mut self, q: &[f64]) -> f64;
+    /// Fills `g` and the values of `h` (pattern from [`Problem::hessian_pattern`])
+    /// with non-free rows cancelled: zero gradient, identity row and column.
+    fn gradient_hessian(&mut self, q: &[f64], g: &mut [f64], h: &mut CsrMatrix) -> Result<(), AssemblyError>;
+    /// The Hessian sparsity pattern (values ignored); fixed during one solve.
+    fn hessian_pattern(&self) -> CsrMatrix;
+    /// `free[i]`: coordinate `i` is an unknown.
+    fn free(&self) -> &[bool];
+    /// Largest fraction of `dq` that is safe to take from `q` (CCD). Default: no cap.
+    fn max_step(&mut self, _q: &[f64], _dq: &[f64]) -> f64 {
+        1.0
+    }
+    /// Block-Jacobi partition for CG (starts, closed by `n`); empty = scalar Jacobi.
+    fn blocks(&self) -> Vec<usize> {
+        Vec::new()
+    }
+}
+
+/// Newton parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct NewtonParams {
+    /// Hard cap on iterations (each one assembles and solves once).
+    pub max_iterations: usize,
+    /// Stop when the Newton decrement `dq^T H dq / 2` is below this (energy units).
+    pub decrement_tol: f64,
+    /// Stop when `|g_free| / max(|g_0|, residual_floor)` is below this.
+    pub rel_residual_tol: f64,
+    /// Floor of the residual normalisation, so a start at equilibrium stops at once.
+    pub residual_floor: f64,
+    /// A direction is "descent" if `-g.dq >= descent_cos * |g| |dq|`.
+    pub descent_cos: f64,
+    /// Smallest nonzero Levenberg-Marquardt damping, relative to the mean free |H_ii|.
+    pub damping_min: f64,
+    /// Largest damping, same units.
+    pub damping_max: f64,
+    /// Damping is multiplied by this after a poor step and divided after a full one.
+    pub damping_factor: f64,
+    pub line_search: LineSearchParams,
+}
+
+impl Default for NewtonParams {
+    fn default() -> Self {
+        NewtonParams {
+            max_iterations: 100,
+            decrement_tol: 1e-12,
+            rel_residual_tol: 1e-8,
+            residual_floor: 1e-12,
+            descent_cos: 1e-10,
+            damping_min: 1e-6,
+            damping_max: 1e6,
+            damping_factor: 10.0,
+            line_search: LineSearchParams::default(),
+        }
+    }
+}
+
+/// Which direction an iteration stepped along.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    Newton,
+    /// Steepest descent after a failed or non-descent linear solve.
+    Gradient,
+    /// No step: the iteration only detected convergence or stopped.
+    None,
+}
+
+/// One row of the convergence history: the state at the start of the
+/// iteration and the step taken from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IterStats {
+    pub iteration: usize,
+    /// Seconds since `minimize` started, at the end of this iteration.
+    pub elapsed_s: f64,
+    /// `E(q)` at the start of the iteration.
+    pub energy: f64,
+    /// `|g_free|` at the start of the iteration.
+    pub residual: f64,
+    pub rel_residual: f64,
+    /// Newton decrement `dq^T H dq / 2` (0 when no Newton direction was computed).
+    pub decrement: f64,
+    /// Accepted step length (0 when no step was taken).
+    pub step: f64,
+    pub direction: Direction,
+    /// Damping added to the free diagonal for this solve, relative to the mean free |H_ii|.
+    pub damping: f64,
+    /// CG iterations of the linear solve (0 for the direct solver).
+    pub linear_iterations: usize,
+    pub line_search_trials: usize,
+}
+
+/// Why a Newton solve ended successfully.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Converged {
+    Decrement,
+    Residual,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NewtonStatus {
+    Converged(Converged),
+    MaxIterations,
+    Cancelled,
+    /// No trial along the Newton or gradient direction decreased `E`.
+    LineSearchFailed,
+    /// `max_step` allowed no motion at all.
+    Blocked,
+}
+
+#[derive(Clone, Debug)]
+pub struct NewtonReport {
+    pub status: NewtonStatus,
+    /// One entry per iteration, the terminal check included.
+    pub history: Vec<IterStats>,
+    /// `E` at the returned `q`.
+    pub energy: f64,
+}
+
+impl NewtonReport {
+    pub fn converged(&self) -> bool {
+        matches!(self.status, NewtonStatus::Converged(_))
+    }
+
+    /// Number of steps actually taken.
+    pub fn steps(&self) -> usize {
+        self.history.iter().filter(|s| s.step > 0.0).count()
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum NewtonError {
+    #[error("q has {q} coordinates, the free mask {free}, the Hessian {hessian}")]
+    Dimension { q: usize, free: usize, hessian: usize },
+    #[error("energy at the starting point is not finite ({0})")]
+    NonFiniteStart(f64),
+    #[error("gradient is not finite at iteration {0}")]
+    NonFiniteGradient(usize),
+    #[error(transparent)]
+    Assembly(#[from] AssemblyError),
+}
+
+/// Per-iteration hooks: a progress callback and a cancellation flag.
+#[derive(Default)]
+pub struct NewtonHooks<'a> {
+    pub on_iteration: Option<&'a mut dyn FnMut(&IterStats)>,
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+mod iterate;
+
+pub use iterate::minimize;
+
+#[cfg(test)]
+mod tests;
