@@ -83,14 +83,14 @@ fn box_sdf(p: &Vector3<f64>, h: &Vector3<f64>) -> (f64, Vector3<f64>, Matrix3<f6
 
 /// Penalty of one node against one obstacle.
 #[derive(Clone, Debug)]
-pub struct ObstaclePenalty<'a> {
-    pub shape: &'a Shape,
+pub struct ObstaclePenalty {
+    pub shape: Shape,
     /// Contact thickness: the yarn radius.
     pub thickness: f64,
     pub stiffness: f64,
 }
 
-impl Stencil<3> for ObstaclePenalty<'_> {
+impl Stencil<3> for ObstaclePenalty {
     fn value(&self, x: &SVector<f64, 3>) -> f64 {
         let (s, _, _) = self.shape.sdf(x);
         let pen = self.thickness - s;

@@ -12,7 +12,8 @@
 use super::dofs::DofLayout;
 use crate::topology::{Fabric, PointRef};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct AssignParams {
     /// Safety distance as a fraction of the rest segment length (0.1 in seed 000).
     pub safety_fraction: f64,

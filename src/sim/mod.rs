@@ -4,8 +4,18 @@
 //! This is the only place that knows both the EoL data model and the solver:
 //! the DOF layout, the per-step EIL assignment, which stencils exist for the
 //! current discretization, and the time-stepping and relaxation loops. The
-//! energies themselves (`rod`, `contact`) and the solver (`solver`) stay
-//! generic.
+//! energies themselves (`rod`, `contact`, `scene`) and the solver (`solver`)
+//! stay generic.
 
 pub mod assignment;
 pub mod dofs;
+pub mod inertia;
+pub mod params;
+pub mod problem;
+pub mod relax;
+pub mod simulation;
+pub mod system;
+
+pub use params::{SimParams, Terms};
+pub use relax::{relax, RelaxOptions, RelaxReport};
+pub use simulation::{SimError, Simulation, StepReport};

@@ -1,0 +1,58 @@
+//! What a simulation includes and how stiff it is.
+//!
+//! Every term can be switched off, and a term that is off builds no stencil
+//! at all: a scene pays only for what it uses (obstacles, gravity, friction,
+//! inertia in quasi-static relaxation).
+
+use crate::rod::params::RodParams;
+use crate::scene::Shape;
+use crate::sim::assignment::AssignParams;
+use serde::{Deserialize, Serialize};
+
+/// Which energy terms exist.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Terms {
+    pub bending: bool,
+    pub friction: bool,
+    pub wrapping: bool,
+    pub shear: bool,
+    pub parallel: bool,
+    pub gravity: bool,
+}
+
+impl Default for Terms {
+    fn default() -> Self {
+        Terms {
+            bending: true,
+            friction: true,
+            wrapping: true,
+            shear: true,
+            parallel: true,
+            gravity: false,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SimParams {
+    pub rod: RodParams,
+    pub assign: AssignParams,
+    pub terms: Terms,
+    pub obstacles: Vec<Shape>,
+    /// Penalty stiffness of obstacles (N/m).
+    pub obstacle_stiffness: f64,
+}
+
+impl Default for SimParams {
+    fn default() -> Self {
+        SimParams {
+            rod: RodParams::default(),
+            assign: AssignParams::default(),
+            terms: Terms::default(),
+            obstacles: Vec::new(),
+            obstacle_stiffness: 1e5,
+        }
+    }
+}

@@ -1,0 +1,69 @@
+//! The Newton [`Problem`] of one step: the stencil sets of the current
+//! discretization, the free mask, and the block partition for CG.
+
+use crate::solver::assembly::{assemble, bind_all, hessian_pattern, total_energy, AnyStencilSet, AssemblyError};
+use crate::solver::newton::Problem;
+use crate::solver::sparse::CsrMatrix;
+
+pub struct EolProblem {
+    pub sets: Vec<Box<dyn AnyStencilSet>>,
+    pub free: Vec<bool>,
+    /// Node `x` blocks of 3 then one block per `u`.
+    pub blocks: Vec<usize>,
+    pattern: CsrMatrix,
+}
+
+impl EolProblem {
+    pub fn new(
+        n_nodes: usize,
+        n: usize,
+        mut sets: Vec<Box<dyn AnyStencilSet>>,
+        free: Vec<bool>,
+    ) -> Result<Self, AssemblyError> {
+        for s in &sets {
+            s.validate(n)?;
+        }
+        let pattern = hessian_pattern(n, &sets);
+        bind_all(&mut sets, &pattern)?;
+        let mut blocks: Vec<usize> = (0..n_nodes).map(|i| 3 * i).collect();
+        blocks.extend(3 * n_nodes..=n);
+        Ok(EolProblem {
+            sets,
+            free,
+            blocks,
+            pattern,
+        })
+    }
+
+    /// Energy per term name, for diagnostics.
+    pub fn breakdown(&self, q: &[f64]) -> Vec<(String, f64)> {
+        self.sets.iter().map(|s| (s.name().to_string(), s.energy(q))).collect()
+    }
+
+    /// Free-row gradient of the potential at `q` (no assembly of the Hessian
+    /// is needed by the caller, but the shared routine fills one).
+    pub fn free_gradient(&self, q: &[f64]) -> Result<Vec<f64>, AssemblyError> {
+        let mut g = vec![0.0; q.len()];
+        let mut h = self.pattern.clone();
+        assemble(&self.sets, q, &self.free, &mut g, &mut h, false)?;
+        Ok(g)
+    }
+}
+
+impl Problem for EolProblem {
+    fn energy(&mut self, q: &[f64]) -> f64 {
+        total_energy(&self.sets, q)
+    }
+    fn gradient_hessian(&mut self, q: &[f64], g: &mut [f64], h: &mut CsrMatrix) -> Result<(), AssemblyError> {
+        assemble(&self.sets, q, &self.free, g, h, true)
+    }
+    fn hessian_pattern(&self) -> CsrMatrix {
+        self.pattern.clone()
+    }
+    fn free(&self) -> &[bool] {
+        &self.free
+    }
+    fn blocks(&self) -> Vec<usize> {
+        self.blocks.clone()
+    }
+}

@@ -1,0 +1,75 @@
+//! Quasi-static relaxation: the pattern's equilibrium (MODEL.md sec. 4).
+//!
+//! A sequence of implicit steps with zero predicted velocity: each step is a
+//! proximal Newton solve `min V(q) + 1/(2h^2) |q - q_k|_M^2`, which keeps the
+//! early iterations well-posed (the mass term regularises rigid modes and
+//! the wildly unbalanced compiled geometry) and becomes plain Newton on `V`
+//! as `h` grows. Converged when the static residual (largest free force
+//! over the axial stiffness) is below `tol`.
+
+use super::simulation::{SimError, Simulation};
+use crate::solver::newton::IterStats;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+#[derive(Clone, Copy, Debug)]
+pub struct RelaxOptions {
+    /// Static residual tolerance (force / axial stiffness).
+    pub tol: f64,
+    pub max_steps: usize,
+}
+
+impl Default for RelaxOptions {
+    fn default() -> Self {
+        RelaxOptions {
+            tol: 1e-6,
+            max_steps: 200,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct RelaxReport {
+    pub steps: usize,
+    pub newton_iterations: usize,
+    pub residual: f64,
+    pub converged: bool,
+    pub cancelled: bool,
+    pub max_eil: usize,
+}
+
+/// Relaxes `sim` in place. `on_iter` sees every Newton iteration with the
+/// current EIL count; `on_step` every accepted step with the static residual.
+pub fn relax(
+    sim: &mut Simulation,
+    opts: RelaxOptions,
+    cancel: Option<&AtomicBool>,
+    on_iter: &mut dyn FnMut(&IterStats, usize),
+    on_step: &mut dyn FnMut(usize, f64),
+) -> Result<RelaxReport, SimError> {
+    let mut rep = RelaxReport {
+        steps: 0,
+        newton_iterations: 0,
+        residual: sim.static_residual()?,
+        converged: false,
+        cancelled: false,
+        max_eil: 0,
+    };
+    while rep.steps < opts.max_steps {
+        if rep.residual <= opts.tol {
+            rep.converged = true;
+            break;
+        }
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            rep.cancelled = true;
+            break;
+        }
+        let s = sim.step(false, cancel, on_iter)?;
+        rep.steps += 1;
+        rep.newton_iterations += s.newton_iterations;
+        rep.max_eil = rep.max_eil.max(s.eil_count);
+        rep.residual = sim.static_residual()?;
+        on_step(rep.steps, rep.residual);
+    }
+    rep.converged |= rep.residual <= opts.tol;
+    Ok(rep)
+}

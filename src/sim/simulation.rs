@@ -1,0 +1,296 @@
+//! Time stepping and quasi-static relaxation of an EoL fabric.
+//!
+//! One step (seed 000 sec. 4): re-assign EIL points, initialise the nodes
+//! that come back from EIL from the contact constraint, build the stencils,
+//! and minimise the incremental potential with Newton. A failed solve halves
+//! the step and retries; successes let it grow back (MODEL.md sec. 4).
+//! After each accepted step the friction anchors move so that no anchor
+//! spring exceeds the Coulomb bound `mu |f_n|`.
+
+use super::assignment::{assign, free_mask, Assignment};
+use super::dofs::DofLayout;
+use super::params::SimParams;
+use super::problem::EolProblem;
+use super::system::{build_sets, rest_data, Discretization, RestData, StepInputs};
+use crate::rod::friction::coulomb_update;
+use crate::solver::assembly::AssemblyError;
+use crate::solver::linear::LinearSolver;
+use crate::solver::newton::{minimize, IterStats, NewtonError, NewtonHooks, NewtonParams};
+use crate::topology::{Fabric, PointRef};
+use std::sync::atomic::AtomicBool;
+
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    #[error(transparent)]
+    Assembly(#[from] AssemblyError),
+    #[error(transparent)]
+    Newton(#[from] NewtonError),
+    #[error("the step failed even at the smallest time step {0:.3e} s")]
+    StepTooSmall(f64),
+}
+
+/// What one accepted step did.
+#[derive(Clone, Debug)]
+pub struct StepReport {
+    pub h: f64,
+    pub newton_iterations: usize,
+    pub retries: usize,
+    pub eil_count: usize,
+    pub converged: bool,
+}
+
+pub struct Simulation {
+    pub fabric: Fabric,
+    pub params: SimParams,
+    pub layout: DofLayout,
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+    pub anchors: Vec<f64>,
+    pub rest: RestData,
+    pub assignment: Assignment,
+    pub solver: LinearSolver,
+    pub newton: NewtonParams,
+    /// Current time step (s); adapted.
+    pub h: f64,
+    pub h_min: f64,
+    pub h_max: f64,
+    pub time: f64,
+}
+
+impl Simulation {
+    pub fn new(fabric: Fabric, params: SimParams, solver: LinearSolver, h: f64) -> Self {
+        let layout = DofLayout::new(&fabric);
+        let q = layout.gather(&fabric);
+        let rest_seg = super::assignment::rest_segment_lengths(&fabric);
+        let assignment = assign(&fabric, &layout, &q, &rest_seg, params.assign);
+        let rest = rest_data(&fabric, &layout, &assignment, &q);
+        let anchors = (0..layout.n_points()).map(|i| q[3 * layout.n_nodes + i]).collect();
+        Simulation {
+            v: vec![0.0; q.len()],
+            fabric,
+            params,
+            layout,
+            q,
+            anchors,
+            rest,
+            assignment,
+            solver,
+            newton: NewtonParams::default(),
+            h,
+            h_min: h * 1e-4,
+            h_max: h,
+            time: 0.0,
+        }
+    }
+
+    /// Builds the Newton problem for the current assignment; `inertia` as in [`StepInputs`].
+    pub fn problem(&self, inertia: Option<(f64, &[f64])>) -> Result<EolProblem, SimError> {
+        let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
+        let step = StepInputs {
+            inertia,
+            anchors: &self.anchors,
+        };
+        let sets = build_sets(&disc, &self.q, &self.params, &self.rest, &step);
+        let free = free_mask(&self.fabric, &self.layout, &self.assignment);
+        Ok(EolProblem::new(self.layout.n_nodes, self.layout.len(), sets, free)?)
+    }
+
+    /// Largest free-row force of the potential alone (no inertia), in
+    /// units of the axial stiffness: a dimensionless equilibrium residual.
+    pub fn static_residual(&self) -> Result<f64, SimError> {
+        let g = self.problem(None)?.free_gradient(&self.q)?;
+        Ok(g.iter().fold(0.0f64, |m, v| m.max(v.abs())) / self.params.rod.ks)
+    }
+
+    /// Re-assigns EIL points; nodes whose both points were EIL and now are
+    /// not take the position of the constraint (the partner's point).
+    fn reassign(&mut self) {
+        let new = assign(
+            &self.fabric,
+            &self.layout,
+            &self.q,
+            &self.rest.rest_seg,
+            self.params.assign,
+        );
+        let l = &self.layout;
+        for c in &self.fabric.contacts {
+            let was = self.assignment.is_eil(l, c.front) && self.assignment.is_eil(l, c.back);
+            let now = new.is_eil(l, c.front) && new.is_eil(l, c.back);
+            if was && !now {
+                let back_real = !new.is_eil(l, c.back);
+                let partner = if back_real { c.front } else { c.back };
+                let x = interpolated(&self.fabric, l, &self.assignment, &self.q, partner);
+                self.q[l.x(c.node)..l.x(c.node) + 3].copy_from_slice(x.as_slice());
+            }
+        }
+        self.assignment = new;
+    }
+
+    /// One step. `dynamic = false` is a relaxation step: zero velocity
+    /// prediction, so the inertia term is a proximal regulariser.
+    pub fn step(
+        &mut self,
+        dynamic: bool,
+        cancel: Option<&AtomicBool>,
+        on_iter: &mut dyn FnMut(&IterStats, usize),
+    ) -> Result<StepReport, SimError> {
+        self.reassign();
+        let eil_count = self.assignment.eil_count();
+        let q0 = self.q.clone();
+        let mut retries = 0;
+        loop {
+            let h = self.h;
+            let pred: Vec<f64> = if dynamic {
+                q0.iter().zip(&self.v).map(|(q, v)| q + h * v).collect()
+            } else {
+                q0.clone()
+            };
+            let mut problem = self.problem(Some((h, &pred)))?;
+            let mut q = q0.clone();
+            let mut cb = |s: &IterStats| on_iter(s, eil_count);
+            let hooks = NewtonHooks {
+                on_iteration: Some(&mut cb),
+                cancel,
+            };
+            let report = minimize(&mut problem, &mut q, &mut self.solver, &self.newton, hooks)?;
+            if report.converged() || matches!(report.status, crate::solver::newton::NewtonStatus::Cancelled) {
+                let converged = report.converged();
+                self.v = if dynamic {
+                    q.iter().zip(&q0).map(|(a, b)| (a - b) / h).collect()
+                } else {
+                    vec![0.0; q.len()]
+                };
+                self.q = q;
+                self.time += h;
+                self.update_anchors();
+                if converged && retries == 0 {
+                    self.h = (self.h * 2.0).min(self.h_max);
+                }
+                return Ok(StepReport {
+                    h,
+                    newton_iterations: report.history.len(),
+                    retries,
+                    eil_count,
+                    converged,
+                });
+            }
+            retries += 1;
+            self.h *= 0.5;
+            if self.h < self.h_min {
+                return Err(SimError::StepTooSmall(self.h));
+            }
+        }
+    }
+
+    /// Coulomb update of every friction anchor from the contact normal force,
+    /// estimated as the net pull of the point's own yarn on the node (the
+    /// force the other yarn must balance): `|T_prev t_prev + T_next t_next|`.
+    fn update_anchors(&mut self) {
+        if !self.params.terms.friction {
+            return;
+        }
+        let l = &self.layout;
+        let rp = &self.params.rod;
+        let disc = Discretization::new(&self.fabric, l, &self.assignment);
+        for c in &self.fabric.contacts {
+            for pr in [c.front, c.back] {
+                let pt = &self.fabric.yarns[pr.yarn].points[pr.point];
+                if pt.fixed_u || self.assignment.is_eil(l, pr) {
+                    continue;
+                }
+                let real = &disc.real[pr.yarn];
+                let Some(k) = real.iter().position(|&r| r == pr.point) else {
+                    continue;
+                };
+                let x0 = l.node_x(&self.q, pt.node);
+                let u0 = self.q[l.u(pr)];
+                let mut force = nalgebra::Vector3::zeros();
+                for nb in [k.checked_sub(1), Some(k + 1)].into_iter().flatten() {
+                    let Some(&pj) = real.get(nb) else { continue };
+                    let pj_ref = PointRef {
+                        yarn: pr.yarn,
+                        point: pj,
+                    };
+                    let dx = l.node_x(&self.q, self.fabric.yarns[pr.yarn].points[pj].node) - x0;
+                    let du = (self.q[l.u(pj_ref)] - u0).abs().max(1e-12);
+                    let len = dx.norm();
+                    if len > 0.0 {
+                        force += dx / len * (rp.ks * (len / du - 1.0));
+                    }
+                }
+                let i = l.point(pr);
+                self.anchors[i] = coulomb_update(self.anchors[i], u0, rp.kf, rp.mu, force.norm());
+            }
+        }
+    }
+
+    /// The fabric with the current state written in: positions, `u`,
+    /// EIL flags, points re-sorted by `u` and contacts re-addressed.
+    pub fn snapshot(&self) -> Fabric {
+        let mut f = self.fabric.clone();
+        let l = &self.layout;
+        l.scatter(&self.q, &mut f);
+        for (yi, y) in f.yarns.iter_mut().enumerate() {
+            for (pi, p) in y.points.iter_mut().enumerate() {
+                p.eil = self.assignment.is_eil(l, PointRef { yarn: yi, point: pi });
+            }
+        }
+        // Nodes whose every point is EIL sit where the front point interpolates.
+        for c in &self.fabric.contacts {
+            if self.assignment.is_eil(l, c.front) && self.assignment.is_eil(l, c.back) {
+                f.nodes[c.node].x = interpolated(&self.fabric, l, &self.assignment, &self.q, c.front);
+            }
+        }
+        sort_points(&mut f, &self.assignment);
+        f
+    }
+}
+
+/// Position of a point under an assignment: its node, or the interpolation
+/// between its real neighbours when it is EIL.
+pub fn interpolated(f: &Fabric, l: &DofLayout, a: &Assignment, q: &[f64], p: PointRef) -> nalgebra::Vector3<f64> {
+    let pt = &f.yarns[p.yarn].points[p.point];
+    if !a.is_eil(l, p) {
+        return l.node_x(q, pt.node);
+    }
+    let Some((pa, pc)) = a.interpolation_neighbours(l, p) else {
+        return l.node_x(q, pt.node);
+    };
+    let y = &f.yarns[p.yarn];
+    let (ua, uc, u) = (
+        q[l.u(PointRef {
+            yarn: p.yarn,
+            point: pa,
+        })],
+        q[l.u(PointRef {
+            yarn: p.yarn,
+            point: pc,
+        })],
+        q[l.u(p)],
+    );
+    let s = if uc > ua {
+        ((u - ua) / (uc - ua)).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    l.node_x(q, y.points[pa].node) * (1.0 - s) + l.node_x(q, y.points[pc].node) * s
+}
+
+/// Reorders each yarn's points by the assignment's `u` order and rewrites contact addresses.
+fn sort_points(f: &mut Fabric, a: &Assignment) {
+    let mut new_index: Vec<Vec<usize>> = Vec::with_capacity(f.yarns.len());
+    for (yi, y) in f.yarns.iter_mut().enumerate() {
+        let ord = &a.order[yi];
+        let mut inv = vec![0; ord.len()];
+        for (k, &pi) in ord.iter().enumerate() {
+            inv[pi] = k;
+        }
+        y.points = ord.iter().map(|&pi| y.points[pi].clone()).collect();
+        new_index.push(inv);
+    }
+    for c in &mut f.contacts {
+        for p in [&mut c.front, &mut c.back] {
+            p.point = new_index[p.yarn][p.point];
+        }
+    }
+}
