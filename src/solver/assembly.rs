@@ -73,7 +73,9 @@ pub struct StencilSet<S, const N: usize> {
     pub dofs: Vec<[u32; N]>,
     /// `N*N` value positions per stencil, row-major; empty until bound.
     slots: Vec<usize>,
-    bound_nnz: usize,
+    /// `(n, nnz)` of the matrix bound to: a cheap guard against scattering
+    /// into a different pattern (a full comparison would cost as much as the scatter).
+    bound_shape: (usize, usize),
 }
 
 impl<S: Stencil<N>, const N: usize> StencilSet<S, N> {
@@ -83,7 +85,7 @@ impl<S: Stencil<N>, const N: usize> StencilSet<S, N> {
             stencils,
             dofs,
             slots: Vec::new(),
-            bound_nnz: 0,
+            bound_shape: (0, 0),
         }
     }
 
@@ -92,7 +94,7 @@ impl<S: Stencil<N>, const N: usize> StencilSet<S, N> {
     }
 
     fn is_bound_to(&self, h: &CsrMatrix) -> bool {
-        self.slots.len() == self.stencils.len() * N * N && self.bound_nnz == h.nnz()
+        self.slots.len() == self.stencils.len() * N * N && self.bound_shape == (h.n, h.nnz())
     }
 }
 
@@ -148,7 +150,7 @@ impl<S: Stencil<N>, const N: usize> AnyStencilSet for StencilSet<S, N> {
             }
         }
         self.slots = slots;
-        self.bound_nnz = h.nnz();
+        self.bound_shape = (h.n, h.nnz());
         Ok(())
     }
 

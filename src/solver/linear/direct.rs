@@ -128,6 +128,11 @@ impl DirectSolver {
         self.symbolic_count
     }
 
+    /// Number of stored entries of the Cholesky factor, once analysed (its memory is 8 bytes each).
+    pub fn factor_len(&self) -> Option<usize> {
+        self.analysis.as_ref().map(|a| a.symbolic.len_val())
+    }
+
     /// Runs the symbolic analysis unless `a` has the pattern analysed last.
     /// Returns whether a new analysis was needed.
     pub fn analyze(&mut self, a: &CsrMatrix) -> Result<bool, DirectError> {
@@ -338,115 +343,4 @@ impl DirectSolver {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use nalgebra::{DMatrix, DVector};
-
-    /// 2D 5-point Laplacian on an `m x m` grid plus `shift` on the diagonal.
-    fn grid_laplacian(m: usize, shift: f64) -> CsrMatrix {
-        let idx = |i: usize, j: usize| (i * m + j) as u32;
-        let mut e = Vec::new();
-        for i in 0..m {
-            for j in 0..m {
-                e.push((idx(i, j), idx(i, j)));
-                if i + 1 < m {
-                    e.push((idx(i, j), idx(i + 1, j)));
-                    e.push((idx(i + 1, j), idx(i, j)));
-                }
-                if j + 1 < m {
-                    e.push((idx(i, j), idx(i, j + 1)));
-                    e.push((idx(i, j + 1), idx(i, j)));
-                }
-            }
-        }
-        let mut a = CsrMatrix::from_pattern(m * m, e);
-        for r in 0..a.n {
-            let deg = (a.row_ptr[r + 1] - a.row_ptr[r] - 1) as f64;
-            for k in a.row_ptr[r]..a.row_ptr[r + 1] {
-                a.values[k] = if a.col_idx[k] as usize == r { deg + shift } else { -1.0 };
-            }
-        }
-        a
-    }
-
-    fn dense(a: &CsrMatrix) -> DMatrix<f64> {
-        DMatrix::from_fn(a.n, a.n, |r, c| a.find(r, c).map_or(0.0, |k| a.values[k]))
-    }
-
-    fn max_err(x: &[f64], y: &DVector<f64>) -> f64 {
-        x.iter().zip(y.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
-    }
-
-    #[test]
-    fn matches_dense_solve_and_reuses_symbolic() {
-        let mut a = grid_laplacian(9, 0.3);
-        let b: Vec<f64> = (0..a.n).map(|i| ((i * 31) % 17) as f64 - 8.0).collect();
-        let mut s = DirectSolver::default();
-        let mut x = vec![0.0; a.n];
-        assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Llt);
-        let exact = dense(&a).lu().solve(&DVector::from_vec(b.clone())).unwrap();
-        assert!(max_err(&x, &exact) < 1e-10);
-
-        // New values, same pattern: numeric refactorization only.
-        for (k, v) in a.values.iter_mut().enumerate() {
-            *v *= 1.0 + 0.1 * (k % 3) as f64;
-        }
-        // Keep symmetry: rebuild from the upper triangle.
-        let d = dense(&a);
-        for r in 0..a.n {
-            for k in a.row_ptr[r]..a.row_ptr[r + 1] {
-                let c = a.col_idx[k] as usize;
-                a.values[k] = if r <= c { d[(r, c)] } else { d[(c, r)] };
-            }
-        }
-        s.solve(&a, &b, &mut x).unwrap();
-        assert_eq!(s.symbolic_count(), 1);
-        let exact = dense(&a).lu().solve(&DVector::from_vec(b.clone())).unwrap();
-        assert!(max_err(&x, &exact) < 1e-10);
-
-        // A different pattern triggers a new analysis.
-        let a2 = grid_laplacian(7, 1.0);
-        let b2 = vec![1.0; a2.n];
-        let mut x2 = vec![0.0; a2.n];
-        s.solve(&a2, &b2, &mut x2).unwrap();
-        assert_eq!(s.symbolic_count(), 2);
-        let exact2 = dense(&a2).lu().solve(&DVector::from_vec(b2)).unwrap();
-        assert!(max_err(&x2, &exact2) < 1e-10);
-    }
-
-    #[test]
-    fn singular_psd_falls_back_to_shift() {
-        // Pure Neumann Laplacian: PSD with the constant vector in its kernel.
-        let a = grid_laplacian(6, 0.0);
-        let b: Vec<f64> = (0..a.n).map(|i| if i % 2 == 0 { 1.0 } else { -1.0 }).collect();
-        let mut s = DirectSolver::default();
-        let mut x = vec![0.0; a.n];
-        let kind = s.solve(&a, &b, &mut x).unwrap();
-        let FactorKind::ShiftedLlt { shift } = kind else {
-            panic!("expected a shifted LLT, got {kind:?}")
-        };
-        // The returned x solves the shifted (positive definite) system.
-        let ad = dense(&a) + DMatrix::identity(a.n, a.n) * shift;
-        let r = &ad * DVector::from_vec(x.clone()) - DVector::from_vec(b.clone());
-        assert!(r.norm() < 1e-6 * DVector::from_vec(b).norm());
-    }
-
-    #[test]
-    fn indefinite_uses_ldlt_when_shifts_disabled() {
-        let mut a = grid_laplacian(5, 4.5);
-        // Flip the sign of a few diagonal entries: symmetric, nonsingular, indefinite.
-        for r in [0, 7, 13] {
-            let k = a.find(r, r).unwrap();
-            a.values[k] = -a.values[k];
-        }
-        let b: Vec<f64> = (0..a.n).map(|i| (i as f64).sin()).collect();
-        let mut s = DirectSolver::new(DirectParams {
-            shift_tries: 0,
-            ..Default::default()
-        });
-        let mut x = vec![0.0; a.n];
-        assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Ldlt);
-        let exact = dense(&a).lu().solve(&DVector::from_vec(b)).unwrap();
-        assert!(max_err(&x, &exact) < 1e-9);
-    }
-}
+mod tests;

@@ -53,7 +53,14 @@ impl LinearSolver {
         b: &[f64],
         x: &mut [f64],
         blocks: &[usize],
-    ) -> Result<LinearReport, DirectError> {
+    ) -> Result<LinearReport, LinearError> {
+        if b.len() != a.n || x.len() != a.n {
+            return Err(LinearError::Dimension {
+                n: a.n,
+                b: b.len(),
+                x: x.len(),
+            });
+        }
         match self {
             LinearSolver::Direct(s) => {
                 let kind = s.solve(a, b, x)?;
@@ -65,12 +72,6 @@ impl LinearSolver {
                 })
             }
             LinearSolver::Cg(params) => {
-                if b.len() != a.n || x.len() != a.n {
-                    return Err(DirectError::Dimension {
-                        n: a.n,
-                        len: b.len().min(x.len()),
-                    });
-                }
                 let valid_blocks =
                     blocks.first() == Some(&0) && blocks.last() == Some(&a.n) && blocks.windows(2).all(|w| w[0] < w[1]);
                 let pre = if valid_blocks {
@@ -88,6 +89,14 @@ impl LinearSolver {
             }
         }
     }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum LinearError {
+    #[error("matrix is {n}x{n}, right-hand side has length {b}, solution {x}")]
+    Dimension { n: usize, b: usize, x: usize },
+    #[error(transparent)]
+    Direct(#[from] DirectError),
 }
 
 /// What one linear solve did.
