@@ -154,7 +154,7 @@ mod tests {
         ];
         for s in shapes() {
             let e = ObstaclePenalty {
-                shape: &s,
+                shape: s.clone(),
                 thickness: 1e-3,
                 stiffness: 1e4,
             };
@@ -181,7 +181,7 @@ mod tests {
         assert!((b.sdf(&Vector3::new(2.0, 2.0, 0.0)).0 - 2f64.sqrt()).abs() < 1e-15);
         assert!((b.sdf(&Vector3::new(0.0, 0.0, 0.5)).0 + 0.5).abs() < 1e-15);
         let e = ObstaclePenalty {
-            shape: &b,
+            shape: b.clone(),
             thickness: 0.0,
             stiffness: 1.0,
         };
