@@ -178,3 +178,6 @@ fn assemble(src: &Source, meta: meta::MetaSpec, grid: Vec<GridRow>) -> Pattern {
     };
     Pattern { meta, rows }
 }
+
+#[cfg(test)]
+mod tests;
