@@ -43,14 +43,11 @@ enum Token {
 
 fn token(input: &str) -> IResult<&str, Token> {
     let symbol = satisfy(|c: char| !c.is_whitespace() && !RESERVED.contains(&c));
-    preceded(
-        space0,
-        alt((
-            char('[').map(|_| Token::Open),
-            char(']').map(|_| Token::Close),
-            symbol.map(Token::Symbol),
-        )),
-    )
+    alt((
+        char('[').map(|_| Token::Open),
+        char(']').map(|_| Token::Close),
+        symbol.map(Token::Symbol),
+    ))
     .parse(input)
 }
 
@@ -69,7 +66,7 @@ fn read_line<'a>(src: &Source, line: Line<'a>) -> Result<Drawn<'a>> {
         (space0, char('|'), space0),
         located(line, take_while1(is_name_char)),
     ));
-    let parsed: IResult<&str, _> = (many0(located(line, token)), yarn_tail, space0).parse(body);
+    let parsed: IResult<&str, _> = (many0(preceded(space0, located(line, token))), yarn_tail, space0).parse(body);
     let Ok((rest, (tokens, yarn, _))) = parsed else {
         return Err(src.error(ErrorKind::Syntax("unreadable chart line".into()), line.pos(body, 1)));
     };

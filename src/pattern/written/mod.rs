@@ -107,7 +107,11 @@ fn plan(src: &Source, items: &[Item], width: Option<usize>) -> Result<(Vec<usize
         .take(index)
         .map(|((_, r), u)| r * u)
         .sum();
-    let unit = units.get(index).copied().unwrap_or(1).max(1);
+    let unit = units.get(index).copied().unwrap_or(0);
+    if unit == 0 {
+        let msg = "a repeat `to end` must work at least one stitch".to_string();
+        return Err(src.error(ErrorKind::BadRepeat(msg), item_pos(item)));
+    }
     let available = width.saturating_sub(before.saturating_add(left));
     if available % unit != 0 {
         let detail = format!("{available} stitches are left for a {unit}-stitch repeat");
