@@ -171,3 +171,22 @@ fn ws_rows_swap_in_both_directions() {
     .pattern;
     assert_eq!(written.rows[1].stitches, ws.stitches);
 }
+
+#[test]
+fn readme_written_example_parses() {
+    let text = "yarn MC: #000000\nyarn CC: #ffffff\nwidth: 14\nwritten:\n  Row 1 (RS): k1, [sl1 wyif, k1] to last st, k1.\n  Row 2 (WS): p1, [sl1 wyib, p1] to last st, p1.\n  Rows 3-4, with CC: knit.\n  Rows 5 and 7: [k2, p2] 3 times, k2.\n  Rows 6, 8: purl.\n";
+    let p = parse_str(text, "readme.knit").unwrap_or_else(|e| panic!("{e}")).pattern;
+    assert_eq!((p.meta.width, p.meta.height), (14, 8));
+    // Rows 3-4 are CC; row 4 is a WS knit row, so purl bumps in fabric view.
+    assert!(p.rows[3]
+        .stitches
+        .iter()
+        .all(|s| s.yarn == 1 && s.kind == StitchKind::Purl));
+    // Row 5 worked from the right: k2 p2 k2 p2 k2 p2 k2 reads the same both ways.
+    let row5: String = p.rows[4]
+        .stitches
+        .iter()
+        .map(|s| if s.kind == StitchKind::Knit { 'k' } else { 'p' })
+        .collect();
+    assert_eq!(row5, "kkppkkppkkppkk");
+}

@@ -199,10 +199,11 @@ impl<'a> Walker<'a> {
             rest = after;
             let comma = (space0, char(','), space0, opt((tag_no_case("and"), space1))).map(|_| ());
             let and = (space1, tag_no_case("and"), space1).map(|_| ());
+            // A separator counts only if a number follows: `Rows 3-4, with CC:`.
             let separator: IResult<&str, ()> = alt((comma, and)).parse(rest);
             match separator {
-                Ok((after, ())) => rest = after,
-                Err(_) => return Ok((rest, rows)),
+                Ok((after, ())) if after.starts_with(|c: char| c.is_ascii_digit()) => rest = after,
+                _ => return Ok((rest, rows)),
             }
         }
     }
