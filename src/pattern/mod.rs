@@ -3,11 +3,11 @@
 //! A `.knit` file is metadata (`key: value`), a `legend:`, and a `chart:`
 //! and/or `written:` rows; patterns/README.md is the user documentation.
 //! The stages, each in its own file:
-//! 1. [`document`]: split lines into metadata and sections (layout only);
-//! 2. [`meta`], [`legend`]: values, with defaults a knitter would assume;
-//! 3. [`chart`] / [`written`]: expand repeats to fabric-view rows, keeping
+//! 1. `document`: split lines into metadata and sections (layout only);
+//! 2. `meta`, `legend`: values, with defaults a knitter would assume;
+//! 3. `chart` / `written`: expand repeats to fabric-view rows, keeping
 //!    the source position of every stitch;
-//! 4. [`validate`]: fabric-wide checks (held loops, floats).
+//! 4. `validate`: fabric-wide checks (held loops, floats).
 //!
 //! Every diagnostic points at a file, line and column (rustc-style excerpt).
 //! The parser never panics: no indexing into user data, checked arithmetic
