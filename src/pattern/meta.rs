@@ -1,0 +1,361 @@
+//! Metadata lines: name, gauge, yarns, construction, size, looseness.
+//!
+//! Defaults are what a knitter leaves out: one cream main-colour yarn called
+//! `MC`, a worsted-ish gauge of 24 sts x 32 rows, flat, normal tension, and
+//! the chart's own size. A yarn without a radius gets 0.18 stitch widths, so
+//! the yarn diameter is about a third of a stitch (0.75 mm at 24 sts / 10 cm),
+//! which is the proportion of a plain stockinette in a matching yarn.
+//! Numbers go through nom's `double`, which accepts `nan` and `inf`; those are
+//! rejected here, with the caret on the number.
+
+use nom::branch::alt;
+use nom::bytes::complete::{tag, tag_no_case};
+use nom::character::complete::{char, digit1, space0, space1};
+use nom::combinator::{eof, opt};
+use nom::number::complete::double;
+use nom::Parser;
+
+use super::document::MetaLine;
+use super::error::{ErrorKind, Warning, WarningKind};
+use super::model::{Construction, Gauge, YarnSpec};
+use super::source::{located, Line, Pos, Result, Source};
+
+/// Yarn radius when a pattern gives none, in stitch widths.
+const DEFAULT_RADIUS_PER_STITCH: f64 = 0.18;
+
+/// Metadata with the source positions later stages point errors at.
+#[derive(Clone, Debug)]
+pub(crate) struct MetaSpec {
+    pub name: String,
+    pub gauge: Gauge,
+    pub yarns: Vec<YarnSpec>,
+    /// Where each yarn was declared (the file start for the default yarn).
+    pub yarn_pos: Vec<Pos>,
+    pub construction: Construction,
+    pub width: Option<(usize, Pos)>,
+    pub height: Option<(usize, Pos)>,
+    pub looseness: f64,
+}
+
+impl MetaSpec {
+    pub fn yarn_index(&self, name: &str) -> Option<usize> {
+        self.yarns.iter().position(|y| y.name == name)
+    }
+}
+
+struct PendingYarn {
+    name: String,
+    pos: Pos,
+    color: [u8; 3],
+    radius: Option<(f64, Pos)>,
+    material: Option<String>,
+}
+
+fn syntax(src: &Source, line: Line, at: &str, expected: &str) -> super::error::PatternError {
+    let token = at.trim();
+    let pos = if token.is_empty() {
+        line.pos(at, 1)
+    } else {
+        line.at(token)
+    };
+    src.error(ErrorKind::Syntax(format!("expected {expected}")), pos)
+}
+
+/// A positive finite number at `pos`, else `bad(message)`.
+fn positive(value: f64, what: &str) -> std::result::Result<f64, String> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(format!("{what} must be a positive number, got {value}"))
+    }
+}
+
+fn parse_gauge(src: &Source, m: &MetaLine) -> Result<Gauge> {
+    let line = m.line;
+    let sts_word = opt((
+        space1,
+        alt((tag_no_case("stitches"), tag_no_case("sts"), tag_no_case("st"))),
+    ));
+    let rows_word = opt((space1, alt((tag_no_case("rows"), tag_no_case("row")))));
+    let per_10cm = opt((space0, char('/'), space0, tag("10"), space0, tag_no_case("cm")));
+    let mut grammar = (
+        space0,
+        located(line, double),
+        sts_word,
+        space0,
+        alt((char('x'), char(','), char('×'))),
+        space0,
+        located(line, double),
+        rows_word,
+        per_10cm,
+        space0,
+        eof,
+    );
+    let Ok((_, (_, (sts, sts_pos), _, _, _, _, (rows, rows_pos), _, _, _, _))) = grammar.parse(m.value) else {
+        return Err(syntax(src, line, m.value, "a gauge like `24 sts x 32 rows / 10 cm`"));
+    };
+    let sts = positive(sts, "stitches per 10 cm").map_err(|e| src.error(ErrorKind::BadGauge(e), sts_pos))?;
+    let rows = positive(rows, "rows per 10 cm").map_err(|e| src.error(ErrorKind::BadGauge(e), rows_pos))?;
+    Ok(Gauge {
+        stitches_per_10cm: sts,
+        rows_per_10cm: rows,
+    })
+}
+
+fn parse_colour(src: &Source, line: Line, field: &str) -> Result<[u8; 3]> {
+    let bad = || src.error(ErrorKind::BadColour(field.to_string()), line.at(field));
+    let hex = field.strip_prefix('#').ok_or_else(bad)?;
+    if hex.len() != 6 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return Err(bad());
+    }
+    let channel = |i: usize| {
+        hex.get(i..i + 2)
+            .and_then(|h| u8::from_str_radix(h, 16).ok())
+            .ok_or_else(bad)
+    };
+    Ok([channel(0)?, channel(2)?, channel(4)?])
+}
+
+fn parse_yarn(src: &Source, m: &MetaLine) -> Result<PendingYarn> {
+    let line = m.line;
+    let Some((name, pos)) = m.arg else {
+        let msg = "name the yarn: `yarn MC: #d9cfc1, radius 0.75 mm`".to_string();
+        return Err(src.error(ErrorKind::BadYarn(msg), m.key_pos));
+    };
+    let mut yarn = PendingYarn {
+        name: name.to_string(),
+        pos,
+        color: [0xd9, 0xcf, 0xc1],
+        radius: None,
+        material: None,
+    };
+    let mut have_colour = false;
+    for raw in m.value.split(',') {
+        let field = raw.trim();
+        if field.is_empty() {
+            return Err(syntax(
+                src,
+                line,
+                raw,
+                "a yarn field (#rrggbb, radius N mm, or a material)",
+            ));
+        }
+        let twice = |what: &str| src.error(ErrorKind::BadYarn(format!("{what} given twice")), line.at(field));
+        if field.starts_with('#') {
+            if have_colour {
+                return Err(twice("colour"));
+            }
+            yarn.color = parse_colour(src, line, field)?;
+            have_colour = true;
+        } else if field.starts_with(|c: char| c.is_ascii_alphabetic()) && !field.contains(|c: char| c.is_ascii_digit())
+        {
+            if yarn.material.is_some() {
+                return Err(twice("material"));
+            }
+            yarn.material = Some(field.to_string());
+        } else {
+            let which = alt((tag_no_case("radius"), tag_no_case("diameter")));
+            let mut grammar = (which, space1, located(line, double), space0, tag_no_case("mm"), eof);
+            let Ok((_, (which, _, (mm, num_pos), _, _, _))) = grammar.parse(field) else {
+                return Err(syntax(src, line, raw, "`radius 0.75 mm` or `diameter 1.5 mm`"));
+            };
+            if yarn.radius.is_some() {
+                return Err(twice("size"));
+            }
+            let mm = positive(mm, which).map_err(|e| src.error(ErrorKind::BadYarn(e), num_pos))?;
+            let radius_mm = if which.eq_ignore_ascii_case("diameter") {
+                mm / 2.0
+            } else {
+                mm
+            };
+            yarn.radius = Some((radius_mm * 1e-3, num_pos));
+        }
+    }
+    Ok(yarn)
+}
+
+fn parse_count(src: &Source, m: &MetaLine) -> Result<(usize, Pos)> {
+    let mut grammar = (space0, located(m.line, digit1), space0, eof);
+    let Ok((_, (_, (digits, pos), _, _))) = grammar.parse(m.value) else {
+        return Err(syntax(src, m.line, m.value, "a whole number, at least 1"));
+    };
+    match digits.parse::<usize>() {
+        Ok(n) if n > 0 => Ok((n, pos)),
+        _ => Err(src.error(ErrorKind::BadNumber(format!("{} must be at least 1", m.key)), pos)),
+    }
+}
+
+fn parse_looseness(src: &Source, m: &MetaLine) -> Result<f64> {
+    let word = m.value.trim();
+    match word.to_ascii_lowercase().as_str() {
+        "loose" => return Ok(1.2),
+        "normal" => return Ok(1.0),
+        "tight" => return Ok(0.85),
+        _ => {}
+    }
+    let Ok((_, (_, (value, pos), _, _))) = (space0, located(m.line, double), space0, eof).parse(m.value) else {
+        return Err(syntax(src, m.line, m.value, "loose, normal, tight or a number above 0"));
+    };
+    positive(value, "looseness").map_err(|e| src.error(ErrorKind::BadNumber(e), pos))
+}
+
+fn parse_construction(src: &Source, m: &MetaLine) -> Result<Construction> {
+    match m.value.trim().to_ascii_lowercase().as_str() {
+        "flat" => Ok(Construction::Flat),
+        "round" | "in the round" => Ok(Construction::Round),
+        _ => Err(syntax(src, m.line, m.value, "`flat` or `round`")),
+    }
+}
+
+/// Reads all metadata lines; `default_name` is used when there is no `name:`.
+pub(crate) fn parse(src: &Source, lines: &[MetaLine], default_name: &str) -> Result<(MetaSpec, Vec<Warning>)> {
+    let mut seen: Vec<&str> = Vec::new();
+    let mut name = None;
+    let mut gauge = Gauge {
+        stitches_per_10cm: 24.0,
+        rows_per_10cm: 32.0,
+    };
+    let mut pending: Vec<PendingYarn> = Vec::new();
+    let mut construction = Construction::Flat;
+    let (mut width, mut height, mut looseness) = (None, None, 1.0);
+    for m in lines {
+        if m.key != "yarn" {
+            if seen.contains(&m.key) {
+                return Err(src.error(ErrorKind::DuplicateKey(m.key.into()), m.key_pos));
+            }
+            seen.push(m.key);
+            if let Some((_, pos)) = m.arg {
+                return Err(src.error(
+                    ErrorKind::Syntax(format!("`{}` takes no name before the colon", m.key)),
+                    pos,
+                ));
+            }
+        }
+        match m.key {
+            "name" => match m.value.trim() {
+                "" => return Err(syntax(src, m.line, m.value, "a name")),
+                text => name = Some(text.to_string()),
+            },
+            "gauge" => gauge = parse_gauge(src, m)?,
+            "yarn" => {
+                let yarn = parse_yarn(src, m)?;
+                if pending.iter().any(|y| y.name == yarn.name) {
+                    return Err(src.error(ErrorKind::DuplicateYarn(yarn.name), yarn.pos));
+                }
+                pending.push(yarn);
+            }
+            "construction" => construction = parse_construction(src, m)?,
+            "width" => width = Some(parse_count(src, m)?),
+            "height" => height = Some(parse_count(src, m)?),
+            "looseness" => looseness = parse_looseness(src, m)?,
+            other => return Err(src.error(ErrorKind::UnknownKey(other.into()), m.key_pos)),
+        }
+    }
+    if pending.is_empty() {
+        let pos = src.start();
+        pending.push(PendingYarn {
+            name: "MC".into(),
+            pos,
+            color: [0xd9, 0xcf, 0xc1],
+            radius: None,
+            material: None,
+        });
+    }
+    let stitch = gauge.stitch_width();
+    let mut warnings = Vec::new();
+    let mut yarns = Vec::new();
+    let mut yarn_pos = Vec::new();
+    for y in pending {
+        let (radius, size_pos) = y.radius.unwrap_or((DEFAULT_RADIUS_PER_STITCH * stitch, y.pos));
+        let (diameter_mm, stitch_mm) = (2e3 * radius, 1e3 * stitch);
+        if diameter_mm >= stitch_mm {
+            let msg = format!("diameter {diameter_mm:.2} mm does not fit in a {stitch_mm:.2} mm stitch (see gauge)");
+            return Err(src.error(ErrorKind::BadYarn(msg), size_pos));
+        }
+        if diameter_mm > 0.5 * stitch_mm {
+            warnings.push(src.warning(WarningKind::ThickYarn { diameter_mm, stitch_mm }, size_pos));
+        }
+        yarns.push(YarnSpec {
+            name: y.name,
+            color: y.color,
+            radius,
+            material: y.material,
+        });
+        yarn_pos.push(y.pos);
+    }
+    let name = name.unwrap_or_else(|| default_name.to_string());
+    let spec = MetaSpec {
+        name,
+        gauge,
+        yarns,
+        yarn_pos,
+        construction,
+        width,
+        height,
+        looseness,
+    };
+    Ok((spec, warnings))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::document::split;
+    use super::*;
+
+    fn meta(text: &str) -> Result<MetaSpec> {
+        let src = Source::new(text, "t.knit");
+        let doc = split(&src)?;
+        parse(&src, &doc.meta, "t").map(|(m, _)| m)
+    }
+
+    #[test]
+    fn gauge_forms() {
+        for text in [
+            "gauge: 22 sts x 30 rows / 10 cm",
+            "gauge: 22x30",
+            "gauge: 22 stitches, 30 rows",
+        ] {
+            let g = meta(text).expect(text).gauge;
+            assert_eq!((g.stitches_per_10cm, g.rows_per_10cm), (22.0, 30.0), "{text}");
+        }
+    }
+
+    #[test]
+    fn nan_gauge_points_at_the_number() {
+        let err = meta("gauge: 22 x nan").expect_err("NaN rows");
+        assert!(matches!(err.kind, ErrorKind::BadGauge(_)));
+        assert_eq!((err.loc.column, err.span), (13, 3));
+    }
+
+    #[test]
+    fn yarn_fields() {
+        let m = meta("yarn CC: #FF8000, diameter 1.2 mm, merino wool").expect("yarn");
+        let y = &m.yarns[0];
+        assert_eq!(y.color, [255, 128, 0]);
+        assert!((y.radius - 0.6e-3).abs() < 1e-12);
+        assert_eq!(y.material.as_deref(), Some("merino wool"));
+    }
+
+    #[test]
+    fn default_yarn_scales_with_gauge() {
+        let m = meta("gauge: 20 x 28").expect("defaults");
+        // 0.18 of a 5 mm stitch.
+        assert!((m.yarns[0].radius - 0.9e-3).abs() < 1e-12);
+        assert_eq!(m.looseness, 1.0);
+    }
+
+    #[test]
+    fn bad_colour_is_located() {
+        let err = meta("yarn A: #12345g").expect_err("g is not hex");
+        assert!(matches!(err.kind, ErrorKind::BadColour(_)));
+        assert_eq!(err.loc.column, 9);
+    }
+
+    #[test]
+    fn looseness_words_and_numbers() {
+        assert_eq!(meta("looseness: tight").expect("tight").looseness, 0.85);
+        assert_eq!(meta("looseness: 1.1").expect("number").looseness, 1.1);
+        assert!(meta("looseness: -1").is_err());
+        assert!(meta("looseness: inf").is_err());
+    }
+}
