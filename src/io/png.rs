@@ -6,7 +6,8 @@
 //! is drawn as a capsule of the yarn radius into a z-buffer
 //! ([`raster`](super::raster)), so crossings show the yarn on top, and shaded
 //! with its exact surface normal: Lambert with a little ambient, light from
-//! the upper left front. Shading and the supersampling average run in linear
+//! the upper left front, and darkened towards silhouettes so that yarns of
+//! one colour stay distinct where they cross. Shading and the supersampling average run in linear
 //! light and are converted to sRGB at the end, so edges and highlights keep
 //! the yarn's hue instead of darkening it.
 //!
@@ -44,6 +45,8 @@ pub struct PngOptions {
     /// Direction towards the light (need not be unit): x right, y up, z
     /// towards the viewer.
     pub light: [f64; 3],
+    /// Darkening towards yarn silhouettes in `[0, 1]` (0 = none).
+    pub edge_darkening: f64,
     /// Rays per pixel along each axis (anti-aliasing); 1 disables it.
     pub supersample: u32,
     pub smooth: SmoothOptions,
@@ -59,6 +62,7 @@ impl Default for PngOptions {
             background: [244, 242, 236],
             ambient: 0.3,
             light: [-1.0, 1.0, 1.5],
+            edge_darkening: 0.4,
             supersample: 3,
             smooth: SmoothOptions::default(),
             max_side_px: 8192,
@@ -121,6 +125,7 @@ pub fn render_preview(fabric: &Fabric, options: &PngOptions) -> Result<RgbImage,
     let shading = Shading {
         ambient: options.ambient.clamp(0.0, 1.0),
         light,
+        edge: options.edge_darkening.clamp(0.0, 1.0),
     };
     for yarn in &yarns {
         let s = &yarn.samples;

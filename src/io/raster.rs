@@ -34,12 +34,23 @@ pub(crate) struct Canvas {
     scale: f64,
 }
 
-/// Lambert plus ambient: `ambient + (1 - ambient) max(0, n . light)`.
+/// Lambert plus ambient, `ambient + (1 - ambient) max(0, n . light)`, times
+/// a silhouette darkening `1 - edge (1 - n_z)` that outlines every yarn
+/// where it dips away from the viewer, so same-coloured crossings stay
+/// readable whatever the light direction.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Shading {
     pub ambient: f64,
     /// Unit vector towards the light.
     pub light: Vec3,
+    pub edge: f64,
+}
+
+impl Shading {
+    fn factor(&self, normal: &Vec3) -> f64 {
+        let lambert = self.ambient + (1.0 - self.ambient) * normal.dot(&self.light).max(0.0);
+        lambert * (1.0 - self.edge * (1.0 - normal.z.max(0.0)))
+    }
 }
 
 impl Canvas {
@@ -88,7 +99,7 @@ impl Canvas {
                 let i = row * self.width + col;
                 if z > self.depth[i] {
                     self.depth[i] = z;
-                    let light = shading.ambient + (1.0 - shading.ambient) * normal.dot(&shading.light).max(0.0);
+                    let light = shading.factor(&normal);
                     self.color[i] = base.map(|c| c * light);
                 }
             }
@@ -215,6 +226,7 @@ mod tests {
         let shade = Shading {
             ambient: 1.0,
             light: Vec3::z(),
+            edge: 0.0,
         };
         let mut canvas = Canvas::new(10, 10, 0.0, 10.0, 1.0, [1.0; 3]);
         // Red below (z = 0), green above (z = 1), crossing at the centre.
