@@ -4,6 +4,10 @@
 //! hand-edited file fails at load time with a message rather than later
 //! inside a solver or exporter. Saving rejects non-finite positions: JSON
 //! has no NaN, and serde_json would write `null`, which cannot be read back.
+//!
+//! Exactness: serde_json writes the shortest decimal that round-trips, but
+//! parses it back exactly only with its `float_roundtrip` feature; without
+//! it about one double in ten comes back one ulp off (see the ignored test).
 
 use super::validate::check_structure;
 use super::{write_atomic, IoError};
@@ -65,6 +69,29 @@ mod tests {
         let path = dir.path().join("state.json");
         save_json(&fabric, &path).unwrap();
         assert_eq!(load_json(&path).unwrap(), fabric);
+    }
+
+    /// serde_json's default float parser is only "best effort": about one in
+    /// ten random doubles comes back one ulp off, so a saved state does not
+    /// resume bit for bit. Needs the `float_roundtrip` feature of serde_json
+    /// in Cargo.toml (lead-owned); un-ignore once it is on.
+    #[test]
+    #[ignore = "needs serde_json feature float_roundtrip"]
+    fn round_trip_is_bit_exact_for_arbitrary_positions() {
+        let mut fabric = crossing();
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        for node in &mut fabric.nodes {
+            for c in node.x.iter_mut() {
+                // xorshift64: deterministic, no dependency.
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                *c = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.2;
+            }
+        }
+        let text = serde_json::to_string_pretty(&fabric).unwrap();
+        let back: Fabric = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, fabric);
     }
 
     #[test]
