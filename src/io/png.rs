@@ -4,7 +4,7 @@
 //! The camera looks down the z axis from +z (the RS side; larger z is
 //! nearer), orthographically, image up = +y. Each smoothed centre-line span
 //! is drawn as a capsule of the yarn radius into a z-buffer
-//! ([`raster`](super::raster)), so crossings show the yarn on top, and shaded
+//! (the private `raster` module), so crossings show the yarn on top, and shaded
 //! with its exact surface normal: Lambert with a little ambient, light from
 //! the upper left front, and darkened towards silhouettes so that yarns of
 //! one colour stay distinct where they cross. Shading and the supersampling average run in linear
