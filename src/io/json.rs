@@ -76,7 +76,6 @@ mod tests {
     /// resume bit for bit. Needs the `float_roundtrip` feature of serde_json
     /// in Cargo.toml (lead-owned); un-ignore once it is on.
     #[test]
-    #[ignore = "needs serde_json feature float_roundtrip"]
     fn round_trip_is_bit_exact_for_arbitrary_positions() {
         let mut fabric = crossing();
         let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
