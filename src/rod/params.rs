@@ -32,6 +32,7 @@ use serde::{Deserialize, Serialize};
 
 /// Rod material and contact parameters (SI units, see the module doc).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct RodParams {
     /// Yarn radius (m); the parallel-contact distance is the diameter.
     pub radius: f64,

@@ -13,7 +13,7 @@ use super::dofs::DofLayout;
 use crate::topology::{Fabric, PointRef};
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct AssignParams {
     /// Safety distance as a fraction of the rest segment length (0.1 in seed 000).
     pub safety_fraction: f64,

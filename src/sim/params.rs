@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 /// Which energy terms exist.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct Terms {
     pub bending: bool,
     pub friction: bool,
@@ -35,7 +35,7 @@ impl Default for Terms {
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SimParams {
     pub rod: RodParams,
     pub assign: AssignParams,

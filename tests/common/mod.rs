@@ -53,3 +53,46 @@ pub fn yarn_fabric(len: f64, n: usize, pos: impl Fn(f64) -> Vec3) -> Fabric {
         sim: None,
     }
 }
+
+/// Adds a straight yarn through `pts` to `f`; `contact_at[k] = Some(node)`
+/// makes point k share an existing node (an EoL contact, free `u`). Ends are
+/// fixed-u. Returns the yarn index.
+pub fn add_yarn(f: &mut Fabric, pts: &[Vec3], contact_at: &[Option<usize>]) -> usize {
+    let mut u = 0.0;
+    let mut points = Vec::new();
+    for (k, p) in pts.iter().enumerate() {
+        if k > 0 {
+            u += (p - pts[k - 1]).norm();
+        }
+        let node = match contact_at[k] {
+            Some(n) => n,
+            None => {
+                f.nodes.push(Node { x: *p, pinned: false });
+                f.nodes.len() - 1
+            }
+        };
+        let fixed_u = k == 0 || k + 1 == pts.len();
+        points.push(YarnPoint {
+            node,
+            u,
+            fixed_u,
+            eil: false,
+        });
+    }
+    f.yarns.push(Yarn {
+        spec: 0,
+        rest_length: u,
+        points,
+    });
+    f.yarns.len() - 1
+}
+
+pub fn empty_fabric(radius: f64) -> Fabric {
+    Fabric {
+        meta: meta(radius),
+        nodes: vec![],
+        yarns: vec![],
+        contacts: vec![],
+        sim: None,
+    }
+}
