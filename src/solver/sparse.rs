@@ -51,12 +51,9 @@ impl CsrMatrix {
 
     /// y = A x
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
-        for r in 0..self.n {
-            let mut s = 0.0;
-            for k in self.row_ptr[r]..self.row_ptr[r + 1] {
-                s += self.values[k] * x[self.col_idx[k] as usize];
-            }
-            y[r] = s;
+        for (r, yr) in y.iter_mut().enumerate().take(self.n) {
+            let (a, b) = (self.row_ptr[r], self.row_ptr[r + 1]);
+            *yr = self.values[a..b].iter().zip(&self.col_idx[a..b]).map(|(v, &c)| v * x[c as usize]).sum();
         }
     }
 
