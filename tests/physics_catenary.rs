@@ -30,12 +30,15 @@ fn sag_error(n: usize) -> f64 {
     });
     f.nodes[0].pinned = true;
     f.nodes[n].pinned = true;
-    let mut p = SimParams::default();
-    p.terms = Terms {
+    let terms = Terms {
         bending: false,
         gravity: true,
         friction: false,
         ..Terms::default()
+    };
+    let mut p = SimParams {
+        terms,
+        ..SimParams::default()
     };
     // Nearly inextensible compared with the yarn's weight, as the analytic chain.
     p.rod.ks = 1e3;

@@ -53,7 +53,11 @@ impl CsrMatrix {
     pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
         for (r, yr) in y.iter_mut().enumerate().take(self.n) {
             let (a, b) = (self.row_ptr[r], self.row_ptr[r + 1]);
-            *yr = self.values[a..b].iter().zip(&self.col_idx[a..b]).map(|(v, &c)| v * x[c as usize]).sum();
+            *yr = self.values[a..b]
+                .iter()
+                .zip(&self.col_idx[a..b])
+                .map(|(v, &c)| v * x[c as usize])
+                .sum();
         }
     }
 
