@@ -1,4 +1,9 @@
 //! Thickness contact for non-persistent contacts: barrier, distances, broad phase, CCD (seed 003).
 
 pub mod barrier;
+pub mod broad_phase;
 pub mod distance;
+pub mod stencil;
+
+#[cfg(test)]
+mod test_util;

@@ -1,4 +1,5 @@
 use super::*;
+use crate::contact::test_util::Rng;
 use crate::energy::fd::check_derivatives;
 use crate::energy::Stencil;
 use nalgebra::{SMatrix, SVector};
@@ -88,17 +89,6 @@ fn brute_force_sq(x: &SVector<f64, 12>) -> f64 {
         }
     }
     best
-}
-
-/// Deterministic pseudo-random numbers (xorshift) for reproducible soups.
-pub(crate) struct Rng(pub u64);
-impl Rng {
-    pub fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 #[test]
