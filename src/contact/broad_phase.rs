@@ -142,8 +142,8 @@ impl Grid {
         let mut extent_sum = 0.0;
         let mut extent_max: f64 = 0.0;
         for b in boxes {
-            for k in 0..3 {
-                origin[k] = origin[k].min(b.lo[k]);
+            for (o, lo) in origin.iter_mut().zip(b.lo) {
+                *o = o.min(lo);
             }
             let extent = (0..3).map(|k| b.hi[k] - b.lo[k]).fold(0.0, f64::max);
             extent_sum += extent;
