@@ -2,6 +2,7 @@
 
 pub mod barrier;
 pub mod broad_phase;
+pub mod ccd;
 pub mod distance;
 pub mod stencil;
 
