@@ -39,7 +39,7 @@ fn head_on_edges_stop_short_by_the_rescaling() {
     assert!((t - 0.45).abs() < 1e-12, "{t}");
     // With a hard core of 0.2 the impact is at t = 0.4.
     let t = toi(&p, &dp, 0.2);
-    assert!(t <= 0.4 && t >= 0.8 * 0.4, "{t}");
+    assert!((0.8 * 0.4..=0.4).contains(&t), "{t}");
     // Moving apart, or a pure translation of both: no impact.
     let up = [z, z, v(0.0, 0.0, 2.0), v(0.0, 0.0, 2.0)];
     assert_eq!(toi(&p, &up, 0.0), 1.0);
