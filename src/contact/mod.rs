@@ -4,6 +4,9 @@ pub mod barrier;
 pub mod broad_phase;
 pub mod ccd;
 pub mod distance;
+pub mod filter;
+pub mod rest;
+pub mod set;
 pub mod stencil;
 
 #[cfg(test)]
