@@ -81,7 +81,7 @@ fn max_step_stops_before_the_core() {
     let set = ContactSet::build(s, ContactMode::Filtered, params);
     let t = set.max_step(&x, &dx);
     // Impact with the 0.1 core at t = 0.4; additive CCD stops short of it.
-    assert!(t <= 0.4 && t >= 0.3, "{t}");
+    assert!((0.3..=0.4).contains(&t), "{t}");
     let penalty = ContactSet {
         mode: ContactMode::Penalty,
         ..set
