@@ -138,15 +138,8 @@ pub fn edge_edge_parallel_type(
     eb0: &Vector3<f64>,
     eb1: &Vector3<f64>,
 ) -> EdgeEdgeType {
+    // B's endpoints first: with exact ties this picks the same type as ipctk.
     let candidates = [
-        (
-            point_edge_sq(ea0, eb0, eb1),
-            EdgeEdgeType::vertex_a(0, point_edge_type(ea0, eb0, eb1)),
-        ),
-        (
-            point_edge_sq(ea1, eb0, eb1),
-            EdgeEdgeType::vertex_a(1, point_edge_type(ea1, eb0, eb1)),
-        ),
         (
             point_edge_sq(eb0, ea0, ea1),
             EdgeEdgeType::vertex_b(0, point_edge_type(eb0, ea0, ea1)),
@@ -154,6 +147,14 @@ pub fn edge_edge_parallel_type(
         (
             point_edge_sq(eb1, ea0, ea1),
             EdgeEdgeType::vertex_b(1, point_edge_type(eb1, ea0, ea1)),
+        ),
+        (
+            point_edge_sq(ea0, eb0, eb1),
+            EdgeEdgeType::vertex_a(0, point_edge_type(ea0, eb0, eb1)),
+        ),
+        (
+            point_edge_sq(ea1, eb0, eb1),
+            EdgeEdgeType::vertex_a(1, point_edge_type(ea1, eb0, eb1)),
         ),
     ];
     // First minimum wins: a deterministic choice among ties, whose distances agree.
