@@ -8,8 +8,8 @@
 //! thickness), so one structure serves every contact mode.
 //!
 //! Design, for a million segments on a few cores:
-//! - Uniform grid, cell size = mean box extent, so a box covers a handful of
-//!   cells. Cells are hashed into a power-of-two table; collisions only cost
+//! - Uniform grid, cell size = twice the mean box extent, so a box covers
+//!   one to a few cells. Cells are hashed into a power-of-two table; collisions only cost
 //!   extra box tests.
 //! - The table is built by counting sort (two passes, no per-cell
 //!   allocation); since segments are inserted in index order every bucket is
@@ -150,7 +150,10 @@ impl Grid {
             extent_max = extent_max.max(extent);
         }
         // A few outsized boxes must not cover millions of cells.
-        let cell = (extent_sum / boxes.len() as f64)
+        // Twice the mean extent: measured on 1M yarn-like segments, fewer
+        // (cache-missing) bucket lookups beat the extra box tests (1.3 s vs
+        // 2.5 s at 1x, no gain at 3x).
+        let cell = (2.0 * extent_sum / boxes.len() as f64)
             .max(extent_max / 32.0)
             .max(f64::MIN_POSITIVE);
         let mut grid = Grid {
