@@ -3,13 +3,13 @@
 //! pair every contact node with its two yarn points.
 //!
 //! Flat edges: the yarn in float layer `k` owns a strand lane outside each
-//! edge, `edge_gap + k carry_spacing` beyond it, at its float depth. A pass ends by stepping out to its lane, the yarn climbs the
-//! lane (turning, or carried up the side over rows it skips) and steps back
-//! in. Lanes differ in x *and* z so one yarn's step-in never touches
-//! another's carried strand. In the round the next row starts where the last
-//! ended. A piece begins and ends in a lane behind the fabric beside the
-//! seam: entering pieces left of it, leaving ones right of it, one lane per
-//! yarn spec, so two colours swapping at the seam stay apart.
+//! edge, `edge_gap + k carry_spacing` beyond it, at its float depth. A pass
+//! ends by stepping straight out to its lane at its own height and depth,
+//! the yarn climbs the lane (turning, or carried up the side over rows it
+//! skips) and steps back in. Lanes differ in x *and* z so one yarn's step
+//! never touches another's lane. In the round the next row starts where the
+//! last ended; a piece begins and ends on the seam at its own float depth
+//! (see `Geometry::pass_path`), so two colours swapping there stay apart.
 
 use super::error::TopologyError;
 use super::fabric::{Fabric, PointRef, Vec3, Yarn, YarnPoint};
@@ -32,53 +32,39 @@ struct Joiner<'a> {
 }
 
 impl Joiner<'_> {
-    fn lane_x(&self, edge: Edge, layer: usize, lane: bool) -> f64 {
-        let out = self.lay.edge_gap
-            + if lane {
-                layer as f64 * self.lay.carry_spacing
-            } else {
-                0.0
-            };
+    fn lane_x(&self, edge: Edge, layer: usize) -> f64 {
+        let out = self.lay.edge_gap + layer as f64 * self.lay.carry_spacing;
         match edge {
             Edge::Left => -out,
             Edge::Right => self.lay.x_boundary(self.lay.columns) + out,
         }
     }
 
-    /// Points from the fabric edge out to the lane at height `y` (outwards
-    /// order). A lane lies at its yarn's float depth, so a yarn stepping
-    /// out from a float stays in its layer.
-    fn step_out(&self, geo: &mut Geometry, edge: Edge, layer: usize, y: f64) -> Vec<PathPoint> {
+    /// Points from a pass's end `from` out to its lane, outwards order. The
+    /// yarn first runs straight out at its own height and depth to its lane
+    /// (crossing the inner lanes a layer in front of or behind them), then
+    /// turns to the lane's depth, its float depth.
+    fn step_out(&self, geo: &mut Geometry, edge: Edge, layer: usize, from: Vec3) -> Vec<PathPoint> {
+        let x = self.lane_x(edge, layer);
         let z = self.lay.z_float(layer, -1.0);
         let mut pts = Vec::new();
-        if layer > 0 {
-            pts.push(geo.store.free(Vec3::new(self.lane_x(edge, layer, false), y, z)));
+        if (from.z - z).abs() > 1e-9 * self.lay.d && layer > 0 {
+            pts.push(geo.store.free(Vec3::new(x, from.y, from.z)));
         }
-        pts.push(geo.store.free(Vec3::new(self.lane_x(edge, layer, true), y, z)));
+        pts.push(geo.store.free(Vec3::new(x, from.y, z)));
         pts
-    }
-
-    /// A piece's end point in the round: a lane behind the fabric, beside
-    /// the seam on the side of the row's own stitches (`x = 0` side when it
-    /// leaves a row, `x = W` side when it enters), one lane per layer.
-    fn seam_lane(&self, geo: &mut Geometry, layer: usize, y: f64, seam_side: Edge) -> PathPoint {
-        let shift = (layer as f64 + 0.5) * self.lay.carry_spacing;
-        let x = match seam_side {
-            Edge::Left => shift,
-            Edge::Right => self.lay.x_boundary(self.lay.columns) - shift,
-        };
-        geo.store.free(Vec3::new(x, y, self.lay.z_min))
     }
 }
 
-fn edge_of(p: &Path, geo: &Geometry, lay: &Layout) -> (Edge, f64) {
+/// The edge a pass starts at, and its first point.
+fn edge_of(p: &Path, geo: &Geometry, lay: &Layout) -> (Edge, Vec3) {
     let x = p.points.first().map_or(Vec3::zeros(), |q| geo.store.position(q));
     let edge = if x.x < 0.5 * lay.x_boundary(lay.columns) {
         Edge::Left
     } else {
         Edge::Right
     };
-    (edge, x.y)
+    (edge, x)
 }
 
 /// Builds the fabric from the graph's pieces.
@@ -95,36 +81,21 @@ pub fn assemble(
         let spec = piece.spec;
         let layer = geo.spec_layer.get(spec).copied().unwrap_or(0);
         let mut path = Path::default();
-        let mut prev_row: Option<usize> = None;
         for &pi in &piece.passes {
             let mut pass = geo.pass_path(pi);
             if g.passes[pi].dir == Direction::RightToLeft {
                 pass.reverse();
             }
-            let (edge, _) = edge_of(&pass, &geo, lay);
-            // Lanes are entered at sinker height, a full row apart per turn.
-            let y = lay.y_interlock(g.passes[pi].row) - lay.sinker_drop;
-            match (lay.round, prev_row) {
-                (false, None) => {
-                    for p in join.step_out(&mut geo, edge, layer, y).into_iter().rev() {
+            let (edge, start) = edge_of(&pass, &geo, lay);
+            if !lay.round {
+                if let Some(last) = path.last() {
+                    let end = geo.store.position(last);
+                    for p in join.step_out(&mut geo, edge, layer, end) {
                         path.push(p, Owner::Connector);
                     }
                 }
-                (false, Some(r)) => {
-                    let y_end = lay.y_interlock(r) - lay.sinker_drop;
-                    for p in join.step_out(&mut geo, edge, layer, y_end) {
-                        path.push(p, Owner::Connector);
-                    }
-                    for p in join.step_out(&mut geo, edge, layer, y).into_iter().rev() {
-                        path.push(p, Owner::Connector);
-                    }
-                }
-                (true, _) => {}
-            }
-            if lay.round && prev_row.is_none() {
-                if let Some(first) = pass.points.first() {
-                    let y = geo.store.position(first).y;
-                    path.push(join.seam_lane(&mut geo, layer, y, Edge::Right), Owner::Connector);
+                for p in join.step_out(&mut geo, edge, layer, start).into_iter().rev() {
+                    path.push(p, Owner::Connector);
                 }
             }
             // In the round the previous pass may end exactly where this starts.
@@ -136,30 +107,21 @@ pub fn assemble(
                     if !pass.owners.is_empty() {
                         let o = pass.owners.remove(0);
                         path.append(pass, o);
-                        prev_row = Some(g.passes[pi].row);
                         continue;
                     }
                 }
             }
             path.append(pass, Owner::Connector);
-            prev_row = Some(g.passes[pi].row);
         }
-        if let (true, Some(last)) = (lay.round, path.last()) {
-            let y = geo.store.position(last).y;
-            path.push(join.seam_lane(&mut geo, layer, y, Edge::Left), Owner::Connector);
-        }
-        if let (false, Some(last), Some(r)) = (lay.round, path.last(), prev_row) {
-            {
-                let mut pos = geo.store.position(last);
-                pos.y = lay.y_interlock(r) - lay.sinker_drop;
-                let edge = if pos.x < 0.5 * lay.x_boundary(lay.columns) {
-                    Edge::Left
-                } else {
-                    Edge::Right
-                };
-                for p in join.step_out(&mut geo, edge, layer, pos.y) {
-                    path.push(p, Owner::Connector);
-                }
+        if let (false, Some(last)) = (lay.round, path.last()) {
+            let end = geo.store.position(last);
+            let edge = if end.x < 0.5 * lay.x_boundary(lay.columns) {
+                Edge::Left
+            } else {
+                Edge::Right
+            };
+            for p in join.step_out(&mut geo, edge, layer, end) {
+                path.push(p, Owner::Connector);
             }
         }
         if let Some(first) = path.points.first_mut() {

@@ -152,9 +152,9 @@ impl<'a> Geometry<'a> {
             for &parent in &l.parents {
                 let p = &self.g.loops[parent];
                 let x = self.lay.x_center(p.col);
-                let a = self.lay.leg_offset(p.slot);
-                let mut at =
-                    |dx: f64, dy: f64| self.store.contact(Vec3::new(x + dx, yb + dy, 0.0), ContactKind::Stitch);
+                let a = self.lay.leg_offset();
+                let z = -self.lay.slot_depth(p.slot);
+                let mut at = |dx: f64, dy: f64| self.store.contact(Vec3::new(x + dx, yb + dy, z), ContactKind::Stitch);
                 let ids = [
                     at(-a - half, -half),
                     at(-a + half, half),
@@ -173,7 +173,7 @@ impl<'a> Geometry<'a> {
             let Some(held) = t.tucked_on else { continue };
             let p = &self.g.loops[held];
             let x = self.lay.x_center(p.col);
-            let a = self.lay.leg_offset(p.slot);
+            let a = self.lay.leg_offset();
             let y = self.lay.y_interlock(t.row);
             let mut ids = [0; 2];
             for (side, sign) in [(LEFT, -1.0), (RIGHT, 1.0)] {
@@ -238,7 +238,7 @@ impl<'a> Geometry<'a> {
                 let x = self.lay.x_center(*col);
                 let mut crossings = Vec::with_capacity(2 * crosses.len());
                 for &l in crosses {
-                    let a = self.lay.leg_offset(self.g.loops[l].slot);
+                    let a = self.lay.leg_offset();
                     for (leg, s) in [(LEFT, -1.0), (RIGHT, 1.0)] {
                         let c = self.store.contact(Vec3::new(x + s * a, y, z), ContactKind::Float);
                         crossings.push((x + s * a, c, float_role));
@@ -268,8 +268,8 @@ impl<'a> Geometry<'a> {
     fn leg(&mut self, id: LoopId, side: usize) -> Vec<PathPoint> {
         let l = &self.g.loops[id];
         let sign = if side == LEFT { -1.0 } else { 1.0 };
-        let x = self.lay.x_center(l.col) + sign * self.lay.leg_offset(l.slot);
-        let z_leg = leg_sign(l.kind) * self.lay.leg_z;
+        let x = self.lay.x_center(l.col) + sign * self.lay.leg_offset();
+        let z_leg = self.leg_z(id);
         let events = self.legs[id][side].clone();
         let mut stations: Vec<(f64, PathPoint)> = Vec::new();
         for band in l.row..l.top_row {
@@ -308,14 +308,25 @@ impl<'a> Geometry<'a> {
         stations.into_iter().map(|s| s.1).collect()
     }
 
+    /// z of a loop's legs: by kind, and a tuck one `tuck_depth` behind the
+    /// legs of the loop it sits on.
+    fn leg_z(&self, id: LoopId) -> f64 {
+        let l = &self.g.loops[id];
+        match l.tucked_on {
+            Some(held) => self.leg_z(held) - self.lay.slot_depth(l.slot),
+            None => leg_sign(l.kind) * self.lay.leg_z,
+        }
+    }
+
     /// One loop, left sinker to right sinker excluded, drawn left to right.
+    /// A child passes through its parents' heads deepest (tucks) first.
     fn loop_points(&mut self, id: LoopId) -> Vec<PathPoint> {
         let g = self.g;
         let l = &g.loops[id];
         let role = child_role(l.kind);
         let mut pts = Vec::new();
         let parents = self.interlocks[id].clone();
-        for ids in &parents {
+        for ids in parents.iter().rev() {
             pts.push(self.store.at(ids[0], role));
             pts.push(self.store.at(ids[1], role));
         }
@@ -325,10 +336,11 @@ impl<'a> Geometry<'a> {
         pts.extend(self.leg(id, LEFT));
 
         let x = self.lay.x_center(l.col);
-        let a = self.lay.leg_offset(l.slot);
+        let a = self.lay.leg_offset();
         let top = self.lay.y_interlock(l.top_row);
         let head_sign = l.child.map_or(leg_sign(l.kind), |c| leg_sign(g.loops[c].kind));
-        let apex_z = -head_sign * (self.lay.leg_z + l.slot as f64 * self.lay.float_layer);
+        let depth = self.lay.slot_depth(l.slot);
+        let apex_z = -head_sign * self.lay.leg_z - depth;
         let apex = Vec3::new(x, top + self.lay.apex_rise, apex_z);
         match l.child {
             Some(c) => {
@@ -342,9 +354,9 @@ impl<'a> Geometry<'a> {
                 pts.push(self.store.at(ids[3], pr));
             }
             None => {
-                pts.push(self.store.free(Vec3::new(x - a, top, 0.0)));
+                pts.push(self.store.free(Vec3::new(x - a, top, -depth)));
                 pts.push(self.store.free(apex));
-                pts.push(self.store.free(Vec3::new(x + a, top, 0.0)));
+                pts.push(self.store.free(Vec3::new(x + a, top, -depth)));
             }
         }
 
@@ -354,7 +366,7 @@ impl<'a> Geometry<'a> {
         if let Some(t) = self.tucks[id] {
             pts.push(self.store.at(t[1], Role::Back));
         }
-        for ids in parents.iter().rev() {
+        for ids in &parents {
             pts.push(self.store.at(ids[2], role));
             pts.push(self.store.at(ids[3], role));
         }
@@ -363,15 +375,6 @@ impl<'a> Geometry<'a> {
 
     fn sinker_z(&self, pass: usize, col: usize, neighbour: Option<usize>) -> f64 {
         let cells = &self.g.passes[pass].cells;
-        let on_seam = match neighbour {
-            None => col == 0,
-            Some(n) => n >= cells.len(),
-        };
-        if self.lay.round && on_seam {
-            // Where a row's end meets the next row's start on a tube, each
-            // yarn crosses the seam at its own float depth.
-            return self.lay.z_float(self.spec_layer[self.g.passes[pass].spec], -1.0);
-        }
         let sign_at = |c: usize| match cells.get(c) {
             Some(Cell::Loop(l)) => Some(sinker_sign(self.g.loops[*l].kind)),
             _ => None,
@@ -387,54 +390,103 @@ impl<'a> Geometry<'a> {
     /// yarn leaving a float is a full drop away from another colour's float
     /// before it rises through that float's layer.
     fn drop_point(&mut self, float_end: Vec3, towards: f64) -> PathPoint {
-        let x = float_end.x + towards * 0.3 * self.lay.d;
+        let x = float_end.x + towards * self.lay.float_drop_shift;
         let y = float_end.y - self.lay.float_drop;
         self.store.free(Vec3::new(x, y, float_end.z))
     }
 
+    /// A piece starts and ends on a tube's seam at its own float depth, so
+    /// one colour's end and the next colour's start (which meet there) are
+    /// apart.
+    fn edge_sinker_z(&self, pass: usize, col: usize, next: Option<usize>, nb: Neighbour) -> f64 {
+        if self.lay.round && nb == Neighbour::Edge {
+            let layer = self.spec_layer[self.g.passes[pass].spec];
+            return self.lay.z_float(layer, -1.0);
+        }
+        self.sinker_z(pass, col, next)
+    }
+
+    /// On a tube's seam a piece that ends (at the row's left end) finishes a
+    /// little higher and one that starts (at the right end) begins a little
+    /// lower, so a colour change there has the two ends a diameter apart in
+    /// height as well as a layer apart in depth.
+    fn seam_end_rise(&self, nb: Neighbour) -> f64 {
+        if self.lay.round && nb == Neighbour::Edge {
+            0.6 * self.lay.d
+        } else {
+            0.0
+        }
+    }
+
+    /// What lies beside column `col` of a pass, `side` -1 left or +1 right.
+    /// In the round the seam joins a row's left end to the next row's right
+    /// end (and its right end to the previous row's left end) when the same
+    /// yarn piece works both rows.
+    fn neighbour(&self, pass: usize, col: usize, side: isize) -> Neighbour {
+        let p = &self.g.passes[pass];
+        let width = p.cells.len();
+        let (other_pass, other_col) = match (side, col) {
+            (-1, 0) => (self.seam_pass(pass, 1), width.saturating_sub(1)),
+            (1, c) if c + 1 == width => (self.seam_pass(pass, -1), 0),
+            (-1, c) => (Some(pass), c - 1),
+            (_, c) => (Some(pass), c + 1),
+        };
+        let on_seam = other_pass != Some(pass);
+        match other_pass.and_then(|q| self.g.passes[q].cells.get(other_col)) {
+            None => Neighbour::Edge,
+            Some(Cell::Loop(_)) => Neighbour::Loop { on_seam },
+            Some(Cell::Float { .. }) => Neighbour::Float { on_seam },
+        }
+    }
+
+    /// The same piece's pass one row up (`step` 1) or down (-1), in the round.
+    fn seam_pass(&self, pass: usize, step: isize) -> Option<usize> {
+        if !self.lay.round {
+            return None;
+        }
+        let p = &self.g.passes[pass];
+        let row = p.row.checked_add_signed(step)?;
+        self.g.pieces[p.piece]
+            .passes
+            .iter()
+            .copied()
+            .find(|&q| self.g.passes[q].row == row)
+    }
+
     /// A whole pass, drawn left to right (flat layout). Sinkers sit between
-    /// two loops of the pass (and at the edges); next to a float the foot
-    /// goes straight to the float's end, so two colours changing places at a
-    /// column boundary cross there at their different float depths instead
-    /// of sharing a sinker spot.
+    /// two loops of the pass (and at the edges). Where a float meets a loop
+    /// of its own pass the float end drops first (see [`Self::drop_point`]),
+    /// so two colours changing places at a column boundary cross there at
+    /// their different float depths instead of sharing a sinker spot.
     pub fn pass_path(&mut self, pass: usize) -> Path {
         let g = self.g;
         let p = &g.passes[pass];
         let sinker_y = self.lay.y_interlock(p.row) - self.lay.sinker_drop;
-        let is_loop = |c: usize| matches!(p.cells.get(c), Some(Cell::Loop(_)));
-        let last = p.cells.len().saturating_sub(1);
         let mut path = Path::default();
-        let mut prev_owner = Owner::Connector;
         for (col, cell) in p.cells.iter().enumerate() {
             let x_left = self.lay.x_boundary(col);
             let x_right = self.lay.x_boundary(col + 1);
+            let left = self.neighbour(pass, col, -1);
+            let right = self.neighbour(pass, col, 1);
             match cell {
                 Cell::Loop(id) => {
                     let owner = Owner::Loop(*id);
-                    if col == 0 {
-                        let z = self.sinker_z(pass, col, None);
-                        let s = self.store.free(Vec3::new(x_left, sinker_y, z));
-                        path.push(s, prev_owner);
-                    }
-                    // The climb from a float belongs to the float.
-                    let mut joint = owner;
-                    if col > 0 && !is_loop(col - 1) {
-                        joint = prev_owner;
-                        if let Some(drop) = path.last().map(|q| self.store.position(q)) {
-                            let d = self.drop_point(drop, 1.0);
-                            path.push(d, joint);
-                        }
-                    }
-                    for pt in self.loop_points(*id) {
-                        path.push(pt, joint);
-                        joint = owner;
-                    }
-                    if col == last || is_loop(col + 1) {
-                        let z = self.sinker_z(pass, col, Some(col + 1));
-                        let s = self.store.free(Vec3::new(x_right, sinker_y, z));
+                    let first = matches!(left, Neighbour::Edge | Neighbour::Loop { on_seam: true });
+                    if first {
+                        let z = self.edge_sinker_z(pass, col, None, left);
+                        let y = sinker_y + self.seam_end_rise(left);
+                        let s = self.store.free(Vec3::new(x_left, y, z));
                         path.push(s, owner);
                     }
-                    prev_owner = owner;
+                    for pt in self.loop_points(*id) {
+                        path.push(pt, owner);
+                    }
+                    if matches!(right, Neighbour::Edge | Neighbour::Loop { .. }) {
+                        let z = self.edge_sinker_z(pass, col, Some(col + 1), right);
+                        let y = sinker_y - self.seam_end_rise(right);
+                        let s = self.store.free(Vec3::new(x_right, y, z));
+                        path.push(s, owner);
+                    }
                 }
                 Cell::Float { .. } => {
                     let Some(f) = self.floats[pass][col].clone() else {
@@ -442,12 +494,14 @@ impl<'a> Geometry<'a> {
                     };
                     let owner = Owner::Float(f.id);
                     let entry = Vec3::new(x_left, f.y, f.z);
-                    if col > 0 && is_loop(col - 1) {
+                    if matches!(left, Neighbour::Loop { .. }) {
                         let d = self.drop_point(entry, -1.0);
                         path.push(d, owner);
                     }
-                    let entry = self.store.free(entry);
-                    path.push(entry, owner);
+                    if !matches!(left, Neighbour::Float { on_seam: false }) {
+                        let e = self.store.free(entry);
+                        path.push(e, owner);
+                    }
                     let mut last_x = None;
                     for &(x, c, role) in &f.crossings {
                         if let Some(lx) = last_x {
@@ -457,14 +511,31 @@ impl<'a> Geometry<'a> {
                         path.push(self.store.at(c, role), owner);
                         last_x = Some(x);
                     }
-                    if col == last || is_loop(col + 1) {
-                        let exit = self.store.free(Vec3::new(x_right, f.y, f.z));
-                        path.push(exit, owner);
+                    if !matches!(right, Neighbour::Float { on_seam: false }) {
+                        let exit = Vec3::new(x_right, f.y, f.z);
+                        let e = self.store.free(exit);
+                        path.push(e, owner);
+                        if matches!(right, Neighbour::Loop { .. }) {
+                            let d = self.drop_point(exit, 1.0);
+                            path.push(d, owner);
+                        }
                     }
-                    prev_owner = owner;
                 }
             }
         }
         path
     }
+}
+
+/// What lies beside a cell of a pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Neighbour {
+    /// Nothing: a fabric edge, or a piece's start or end.
+    Edge,
+    Loop {
+        on_seam: bool,
+    },
+    Float {
+        on_seam: bool,
+    },
 }

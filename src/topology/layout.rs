@@ -32,8 +32,6 @@ use crate::topology::Vec3;
 pub struct LayoutOptions {
     /// Smallest stitch width (x pitch).
     pub min_stitch_width: f64,
-    /// Extra stitch width when a needle may hold a tuck (two nested heads).
-    pub tuck_extra_width: f64,
     /// Smallest row height (y pitch).
     pub min_row_height: f64,
     /// Legs, heads and sinkers sit this far off the mid-plane (`z = 0`,
@@ -59,10 +57,13 @@ pub struct LayoutOptions {
     /// Where a float meets a loop, the yarn drops this far below the float
     /// at the float's depth before heading to the loop's foot.
     pub float_drop: f64,
+    /// ... and this far sideways, towards the loop.
+    pub float_drop_shift: f64,
     /// Vertical spread between floats of different passes on one leg.
     pub float_spread: f64,
-    /// A tuck's legs sit this much inside the legs of the loop it is on.
-    pub tuck_inset: f64,
+    /// A tuck loop lies this far behind the loop it is on: same outline,
+    /// stacked towards the WS (its head nodes too).
+    pub tuck_depth: f64,
     /// Distance of the innermost edge strand from the fabric edge (flat).
     pub edge_gap: f64,
     /// Spacing of the strands of different yarns at an edge, in x and z.
@@ -74,9 +75,8 @@ pub struct LayoutOptions {
 impl Default for LayoutOptions {
     fn default() -> Self {
         Self {
-            min_stitch_width: 4.4,
-            tuck_extra_width: 2.4,
-            min_row_height: 3.4,
+            min_stitch_width: 4.6,
+            min_row_height: 3.6,
             leg_z: 0.7,
             float_z: 1.8,
             float_layer: 1.2,
@@ -87,7 +87,8 @@ impl Default for LayoutOptions {
             float_bend_z: 0.95,
             float_spread: 1.1,
             float_drop: 1.0,
-            tuck_inset: 1.2,
+            float_drop_shift: 0.4,
+            tuck_depth: 1.2,
             edge_gap: 1.3,
             carry_spacing: 1.2,
             min_tube_radius: 6.0,
@@ -99,7 +100,6 @@ impl LayoutOptions {
     pub(crate) fn validate(&self) -> Result<(), TopologyError> {
         let all = [
             ("layout.min_stitch_width", self.min_stitch_width),
-            ("layout.tuck_extra_width", self.tuck_extra_width),
             ("layout.min_row_height", self.min_row_height),
             ("layout.leg_z", self.leg_z),
             ("layout.float_z", self.float_z),
@@ -111,7 +111,8 @@ impl LayoutOptions {
             ("layout.float_bend_z", self.float_bend_z),
             ("layout.float_spread", self.float_spread),
             ("layout.float_drop", self.float_drop),
-            ("layout.tuck_inset", self.tuck_inset),
+            ("layout.float_drop_shift", self.float_drop_shift),
+            ("layout.tuck_depth", self.tuck_depth),
             ("layout.edge_gap", self.edge_gap),
             ("layout.carry_spacing", self.carry_spacing),
             ("layout.min_tube_radius", self.min_tube_radius),
@@ -151,7 +152,8 @@ pub struct Layout {
     pub float_bend_z: f64,
     pub float_spread: f64,
     pub float_drop: f64,
-    pub tuck_inset: f64,
+    pub float_drop_shift: f64,
+    pub tuck_depth: f64,
     pub edge_gap: f64,
     pub carry_spacing: f64,
     pub round: bool,
@@ -194,13 +196,13 @@ impl Layout {
             return Err(TopologyError::BadRadius { yarn: 0, radius });
         }
         let d = 2.0 * radius;
-        let tuck = if max_on_needle > 1 { opts.tuck_extra_width } else { 0.0 };
+        let tuck_layers = max_on_needle.saturating_sub(1) as f64 * opts.tuck_depth;
         let round = meta.construction == Construction::Round;
         let columns = meta.width.max(1);
         let extra_layers = float_layers.saturating_sub(1) as f64;
         let float_depth = opts.float_z + extra_layers * opts.float_layer;
-        let z_min = -(float_depth + opts.carry_spacing) * d;
-        let mut w = g.stitch_width().max((opts.min_stitch_width + tuck) * d);
+        let z_min = -(float_depth.max(opts.leg_z + tuck_layers) + opts.carry_spacing) * d;
+        let mut w = g.stitch_width().max(opts.min_stitch_width * d);
         if round {
             let tube = std::f64::consts::TAU * opts.min_tube_radius * d / columns as f64;
             w = w.max(tube);
@@ -223,7 +225,8 @@ impl Layout {
             float_bend_z: opts.float_bend_z * d,
             float_spread: opts.float_spread * d,
             float_drop: opts.float_drop * d,
-            tuck_inset: opts.tuck_inset * d,
+            float_drop_shift: opts.float_drop_shift * d,
+            tuck_depth: opts.tuck_depth * d,
             edge_gap: opts.edge_gap * d,
             carry_spacing: opts.carry_spacing * d,
             round,
@@ -241,9 +244,13 @@ impl Layout {
     pub fn y_interlock(&self, row: usize) -> f64 {
         row as f64 * self.h
     }
-    /// Half spacing of the legs of a loop in needle slot `slot`.
-    pub fn leg_offset(&self, slot: usize) -> f64 {
-        0.25 * self.w - slot as f64 * self.tuck_inset
+    /// Half spacing of the legs of a loop.
+    pub fn leg_offset(&self) -> f64 {
+        0.25 * self.w
+    }
+    /// How far behind a loop in needle slot `slot` is pushed (tucks).
+    pub fn slot_depth(&self, slot: usize) -> f64 {
+        slot as f64 * self.tuck_depth
     }
     /// Height of a float in row `row` that is the `rank`-th float over its
     /// column: mid-row for the first, lower for later ones so two floats on
