@@ -385,3 +385,61 @@ impl KnitGraph {
         self.loops.iter().filter(|l| l.kind != LoopKind::CastOn).count()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::topology::sample::chart_pattern;
+
+    fn graph(chart: &[&str]) -> KnitGraph {
+        let p = chart_pattern(chart, None, Construction::Flat).unwrap();
+        build(&p, &CompileOptions::default()).unwrap()
+    }
+
+    #[test]
+    fn slipped_loop_is_knitted_two_rows_up() {
+        // Column 1 slipped in row 1 (bottom row "kvk"), knitted in row 2.
+        let g = graph(&["kkk", "kvk"]);
+        let cast_on_1 = g.loops.iter().position(|l| l.row == 0 && l.col == 1).unwrap();
+        let child = g.loops.iter().position(|l| l.row == 2 && l.col == 1).unwrap();
+        assert_eq!(g.loops[child].parents, vec![cast_on_1]);
+        assert_eq!(g.loops[cast_on_1].top_row, 2);
+        assert_eq!(g.loops[cast_on_1].child, Some(child));
+        // Row 1's pass floats over column 1, crossing the held cast-on loop.
+        let pass = g.passes.iter().find(|p| p.row == 1).unwrap();
+        assert!(
+            matches!(&pass.cells[1], Cell::Float { crosses, side: FloatSide::Front, .. }
+            if crosses == &vec![cast_on_1])
+        );
+    }
+
+    #[test]
+    fn tuck_child_has_two_parents_and_last_row_stays_open() {
+        let g = graph(&["kkk", "ktk"]);
+        let held = g.loops.iter().position(|l| l.row == 0 && l.col == 1).unwrap();
+        let tuck = g.loops.iter().position(|l| l.kind == LoopKind::Tuck).unwrap();
+        assert_eq!(g.loops[tuck].tucked_on, Some(held));
+        assert_eq!(g.loops[tuck].slot, 1);
+        let child = g.loops.iter().position(|l| l.row == 2 && l.col == 1).unwrap();
+        assert_eq!(g.loops[child].parents, vec![held, tuck]);
+        assert!(g
+            .loops
+            .iter()
+            .filter(|l| l.row == 2)
+            .all(|l| l.top_row == 3 && l.child.is_none()));
+    }
+
+    #[test]
+    fn passes_follow_work_order_and_turn() {
+        // Cast-on left to right, RS row 1 right to left, WS row 2 left to
+        // right: one piece of three passes.
+        let g = graph(&["kk", "kk"]);
+        let dirs: Vec<Direction> = g.passes.iter().map(|p| p.dir).collect();
+        assert_eq!(
+            dirs,
+            vec![Direction::LeftToRight, Direction::RightToLeft, Direction::LeftToRight]
+        );
+        assert_eq!(g.pieces.len(), 1);
+        assert_eq!(g.pieces[0].passes, vec![0, 1, 2]);
+    }
+}

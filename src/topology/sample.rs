@@ -22,13 +22,16 @@ pub enum ChartError {
     ColourShape,
 }
 
-/// Default yarns: a worsted-ish 1.6 mm yarn in distinct colours.
+/// Default yarns: 1 mm diameter in distinct colours. At the default gauge
+/// (4.5 mm stitches) that is a stitch of 4.5 d, close to Peirce's jammed
+/// 4 d but looser, so Munden's loop length (17 mm) is above the jam floor
+/// (16.6 mm) and looseness acts.
 pub fn yarn(index: usize) -> YarnSpec {
     const COLOURS: [[u8; 3]; 4] = [[200, 60, 50], [240, 235, 220], [40, 80, 160], [60, 140, 70]];
     YarnSpec {
         name: format!("yarn {index}"),
         color: COLOURS[index % COLOURS.len()],
-        radius: 0.8e-3,
+        radius: 0.5e-3,
         material: None,
     }
 }
@@ -125,8 +128,11 @@ pub fn chart_pattern(
 }
 
 /// Repeats a tile (top row first) to `width` x `height` stitches, aligned at
-/// the bottom left as knitting repeats are.
+/// the bottom left as knitting repeats are. An empty tile gives knit rows.
 pub fn tile(tile: &[&str], width: usize, height: usize) -> Vec<String> {
+    if tile.is_empty() || tile.iter().any(|l| l.is_empty()) {
+        return vec!["k".repeat(width); height];
+    }
     let th = tile.len();
     let rows: Vec<Vec<char>> = tile.iter().map(|l| l.chars().collect()).collect();
     (0..height)
