@@ -10,8 +10,8 @@
 //! other at under half a diameter, whatever the layer spacing.
 //!
 //! One loop, drawn left to right (its legs `a = w/4` either side of the
-//! column centre, inset by `tuck_inset` for a tuck, which sits inside the
-//! loop it is laid on):
+//! column centre; a tuck has the same outline as the loop it is laid on,
+//! `tuck_depth` behind it, head nodes included):
 //! - **foot**: from the left sinker (below the row's interlock, `z = ∓leg_z`)
 //!   through the heads of its parents. Each head is wrapped over a short
 //!   diagonal `A -> B` (outer-low to inner-high, `wrap_step` in x and y):
@@ -28,20 +28,20 @@
 //!   front for a purl child; open heads (last row) just turn.
 //!
 //! A float runs straight at mid-row (a second float over the same column
-//! `float_spread` lower), `float_z` in front or behind (further passes of
-//! the row one `float_layer` deeper each). Between a
-//! float and a loop of the same pass the yarn climbs at the column boundary.
+//! `float_spread` lower), `float_z` in front or behind, each yarn in its own
+//! depth layer (`float_layer` apart). How loops and floats are strung into a
+//! pass, sinkers, drops and the tube's seam, is in [`super::passes`].
 //!
 //! The clearances these lengths give were derived for the worst pairs
 //! (neighbouring legs `w/2 - wrap_step` apart; a back float passing the apex
 //! of the head below, separated by `h/2 - apex_rise` in y and
-//! `float_z - leg_z` in z; nested tuck heads `tuck_inset` apart) and are
+//! `float_z - leg_z` in z; stacked tuck heads `tuck_depth` apart) and are
 //! checked by `clearance` on every structure in the tests.
 
 use super::fabric::{ContactKind, Vec3};
 use super::knit_graph::{Cell, FloatKind, FloatSide, KnitGraph, LoopId, LoopKind};
 use super::layout::Layout;
-use super::path::{NodeStore, Owner, Path, PathPoint, Role};
+use super::path::{NodeStore, PathPoint, Role};
 
 /// A contact node on one leg of a loop.
 #[derive(Clone, Copy, Debug)]
@@ -55,12 +55,12 @@ struct LegEvent {
 }
 
 #[derive(Clone, Debug)]
-struct FloatCell {
-    id: usize,
-    y: f64,
-    z: f64,
+pub(super) struct FloatCell {
+    pub(super) id: usize,
+    pub(super) y: f64,
+    pub(super) z: f64,
     /// (x, contact, role of the float) sorted by x.
-    crossings: Vec<(f64, usize, Role)>,
+    pub(super) crossings: Vec<(f64, usize, Role)>,
 }
 
 /// Which side of its loop a leg is on.
@@ -68,15 +68,15 @@ const LEFT: usize = 0;
 const RIGHT: usize = 1;
 
 pub struct Geometry<'a> {
-    g: &'a KnitGraph,
-    lay: &'a Layout,
+    pub(super) g: &'a KnitGraph,
+    pub(super) lay: &'a Layout,
     pub store: NodeStore,
     /// `interlocks[child][j]`: contacts `[A_left, B_left, B_right, A_right]`
     /// with the child's `j`-th parent.
     interlocks: Vec<Vec<[usize; 4]>>,
     legs: Vec<[Vec<LegEvent>; 2]>,
     tucks: Vec<Option<[usize; 2]>>,
-    floats: Vec<Vec<Option<FloatCell>>>,
+    pub(super) floats: Vec<Vec<Option<FloatCell>>>,
     /// Kind of each float cell, by id.
     pub float_kinds: Vec<FloatKind>,
     /// Float depth layer of each yarn spec: a yarn keeps its layer in every
@@ -94,7 +94,7 @@ fn leg_sign(kind: LoopKind) -> f64 {
 }
 
 /// z sign of the sinkers next to a loop (a tuck's yarn stays behind).
-fn sinker_sign(kind: LoopKind) -> f64 {
+pub(super) fn sinker_sign(kind: LoopKind) -> f64 {
     match kind {
         LoopKind::Purl => 1.0,
         _ => -1.0,
@@ -320,7 +320,7 @@ impl<'a> Geometry<'a> {
 
     /// One loop, left sinker to right sinker excluded, drawn left to right.
     /// A child passes through its parents' heads deepest (tucks) first.
-    fn loop_points(&mut self, id: LoopId) -> Vec<PathPoint> {
+    pub(super) fn loop_points(&mut self, id: LoopId) -> Vec<PathPoint> {
         let g = self.g;
         let l = &g.loops[id];
         let role = child_role(l.kind);
@@ -372,170 +372,4 @@ impl<'a> Geometry<'a> {
         }
         pts
     }
-
-    fn sinker_z(&self, pass: usize, col: usize, neighbour: Option<usize>) -> f64 {
-        let cells = &self.g.passes[pass].cells;
-        let sign_at = |c: usize| match cells.get(c) {
-            Some(Cell::Loop(l)) => Some(sinker_sign(self.g.loops[*l].kind)),
-            _ => None,
-        };
-        let own = sign_at(col).unwrap_or(-1.0);
-        let other = neighbour.and_then(sign_at).unwrap_or(own);
-        0.5 * (own + other) * self.lay.leg_z
-    }
-
-    /// Where a float meets a loop of its own pass, the yarn first drops
-    /// below the float level at the float's depth, a little towards the loop
-    /// (`towards` = +1 right, -1 left), then goes to the loop's foot. So the
-    /// yarn leaving a float is a full drop away from another colour's float
-    /// before it rises through that float's layer.
-    fn drop_point(&mut self, float_end: Vec3, towards: f64) -> PathPoint {
-        let x = float_end.x + towards * self.lay.float_drop_shift;
-        let y = float_end.y - self.lay.float_drop;
-        self.store.free(Vec3::new(x, y, float_end.z))
-    }
-
-    /// A piece starts and ends on a tube's seam at its own float depth, so
-    /// one colour's end and the next colour's start (which meet there) are
-    /// apart.
-    fn edge_sinker_z(&self, pass: usize, col: usize, next: Option<usize>, nb: Neighbour) -> f64 {
-        if self.lay.round && nb == Neighbour::Edge {
-            let layer = self.spec_layer[self.g.passes[pass].spec];
-            return self.lay.z_float(layer, -1.0);
-        }
-        self.sinker_z(pass, col, next)
-    }
-
-    /// On a tube's seam a piece that ends (at the row's left end) finishes a
-    /// little higher and one that starts (at the right end) begins a little
-    /// lower, so a colour change there has the two ends a diameter apart in
-    /// height as well as a layer apart in depth.
-    fn seam_end_rise(&self, nb: Neighbour) -> f64 {
-        if self.lay.round && nb == Neighbour::Edge {
-            0.6 * self.lay.d
-        } else {
-            0.0
-        }
-    }
-
-    /// What lies beside column `col` of a pass, `side` -1 left or +1 right.
-    /// In the round the seam joins a row's left end to the next row's right
-    /// end (and its right end to the previous row's left end) when the same
-    /// yarn piece works both rows.
-    fn neighbour(&self, pass: usize, col: usize, side: isize) -> Neighbour {
-        let p = &self.g.passes[pass];
-        let width = p.cells.len();
-        let (other_pass, other_col) = match (side, col) {
-            (-1, 0) => (self.seam_pass(pass, 1), width.saturating_sub(1)),
-            (1, c) if c + 1 == width => (self.seam_pass(pass, -1), 0),
-            (-1, c) => (Some(pass), c - 1),
-            (_, c) => (Some(pass), c + 1),
-        };
-        let on_seam = other_pass != Some(pass);
-        match other_pass.and_then(|q| self.g.passes[q].cells.get(other_col)) {
-            None => Neighbour::Edge,
-            Some(Cell::Loop(_)) => Neighbour::Loop { on_seam },
-            Some(Cell::Float { .. }) => Neighbour::Float { on_seam },
-        }
-    }
-
-    /// The same piece's pass one row up (`step` 1) or down (-1), in the round.
-    fn seam_pass(&self, pass: usize, step: isize) -> Option<usize> {
-        if !self.lay.round {
-            return None;
-        }
-        let p = &self.g.passes[pass];
-        let row = p.row.checked_add_signed(step)?;
-        self.g.pieces[p.piece]
-            .passes
-            .iter()
-            .copied()
-            .find(|&q| self.g.passes[q].row == row)
-    }
-
-    /// A whole pass, drawn left to right (flat layout). Sinkers sit between
-    /// two loops of the pass (and at the edges). Where a float meets a loop
-    /// of its own pass the float end drops first (see [`Self::drop_point`]),
-    /// so two colours changing places at a column boundary cross there at
-    /// their different float depths instead of sharing a sinker spot.
-    pub fn pass_path(&mut self, pass: usize) -> Path {
-        let g = self.g;
-        let p = &g.passes[pass];
-        let sinker_y = self.lay.y_interlock(p.row) - self.lay.sinker_drop;
-        let mut path = Path::default();
-        for (col, cell) in p.cells.iter().enumerate() {
-            let x_left = self.lay.x_boundary(col);
-            let x_right = self.lay.x_boundary(col + 1);
-            let left = self.neighbour(pass, col, -1);
-            let right = self.neighbour(pass, col, 1);
-            match cell {
-                Cell::Loop(id) => {
-                    let owner = Owner::Loop(*id);
-                    let first = matches!(left, Neighbour::Edge | Neighbour::Loop { on_seam: true });
-                    if first {
-                        let z = self.edge_sinker_z(pass, col, None, left);
-                        let y = sinker_y + self.seam_end_rise(left);
-                        let s = self.store.free(Vec3::new(x_left, y, z));
-                        path.push(s, owner);
-                    }
-                    for pt in self.loop_points(*id) {
-                        path.push(pt, owner);
-                    }
-                    if matches!(right, Neighbour::Edge | Neighbour::Loop { .. }) {
-                        let z = self.edge_sinker_z(pass, col, Some(col + 1), right);
-                        let y = sinker_y - self.seam_end_rise(right);
-                        let s = self.store.free(Vec3::new(x_right, y, z));
-                        path.push(s, owner);
-                    }
-                }
-                Cell::Float { .. } => {
-                    let Some(f) = self.floats[pass][col].clone() else {
-                        continue;
-                    };
-                    let owner = Owner::Float(f.id);
-                    let entry = Vec3::new(x_left, f.y, f.z);
-                    if matches!(left, Neighbour::Loop { .. }) {
-                        let d = self.drop_point(entry, -1.0);
-                        path.push(d, owner);
-                    }
-                    if !matches!(left, Neighbour::Float { on_seam: false }) {
-                        let e = self.store.free(entry);
-                        path.push(e, owner);
-                    }
-                    let mut last_x = None;
-                    for &(x, c, role) in &f.crossings {
-                        if let Some(lx) = last_x {
-                            let mid = self.store.free(Vec3::new(0.5 * (lx + x), f.y, f.z));
-                            path.push(mid, owner);
-                        }
-                        path.push(self.store.at(c, role), owner);
-                        last_x = Some(x);
-                    }
-                    if !matches!(right, Neighbour::Float { on_seam: false }) {
-                        let exit = Vec3::new(x_right, f.y, f.z);
-                        let e = self.store.free(exit);
-                        path.push(e, owner);
-                        if matches!(right, Neighbour::Loop { .. }) {
-                            let d = self.drop_point(exit, 1.0);
-                            path.push(d, owner);
-                        }
-                    }
-                }
-            }
-        }
-        path
-    }
-}
-
-/// What lies beside a cell of a pass.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Neighbour {
-    /// Nothing: a fabric edge, or a piece's start or end.
-    Edge,
-    Loop {
-        on_seam: bool,
-    },
-    Float {
-        on_seam: bool,
-    },
 }

@@ -31,6 +31,7 @@ pub mod geometry;
 pub mod knit_graph;
 pub mod layout;
 pub mod options;
+pub mod passes;
 pub mod path;
 pub mod rest_length;
 pub mod sample;
