@@ -1,5 +1,63 @@
 //! From a pattern to yarn-level topology: the [`Fabric`].
+//!
+//! The compiler runs in three stages, one file each:
+//! 1. [`knit_graph`]: simulate the needles: which loop is pulled through
+//!    which, which loops are held (slips, tucks), and how each yarn piece
+//!    travels along the rows (passes, floats, cut-and-rejoin, carries).
+//! 2. [`geometry`] (with [`layout`]): a starting shape in which every contact
+//!    node is shared by its two yarns and no other two segments come closer
+//!    than a yarn diameter ([`clearance`] checks it).
+//! 3. [`assemble`] (with [`rest_length`]): yarns as sorted `(u, x)` lists,
+//!    `u` from Munden's stitch length, and the contacts with their front
+//!    and back yarn points.
+//!
+//! Contacts per structure (MODEL.md sec. 7):
+//! - knit/purl child through each parent head: 2 stitch contacts (left and
+//!   right leg) of 2 nodes each, partners of each other: 4 [`ContactKind::Stitch`]
+//!   nodes per parent. A knit child is `front`, a purl child `back`.
+//! - float (slip or colourwork strand) over a column: one
+//!   [`ContactKind::Float`] node per leg of every loop spanning that row.
+//! - tuck: one [`ContactKind::Tuck`] node per leg of the loop it sits on,
+//!   the held loop in front; the next row's child then has two parents.
+//!
+//! The cast-on (row 0) is one pass of plain loops in the yarn that starts
+//! row 1. Loops left on the needles after the last row stay open.
 
+pub mod assemble;
+pub mod clearance;
+pub mod error;
 pub mod fabric;
+pub mod geometry;
+pub mod knit_graph;
+pub mod layout;
+pub mod options;
+pub mod passes;
+pub mod path;
+pub mod rest_length;
+pub mod sample;
+pub mod stats;
 
+pub use clearance::{clearance, ClearanceOptions, ClearanceReport, Violation};
+pub use error::TopologyError;
 pub use fabric::*;
+pub use layout::LayoutOptions;
+pub use options::CompileOptions;
+pub use stats::{stats, Stats};
+
+use crate::pattern::Pattern;
+
+/// Compiles a pattern into yarns, nodes and persistent contacts.
+pub fn compile(p: &Pattern, opts: &CompileOptions) -> Result<Fabric, TopologyError> {
+    opts.validate()?;
+    if !(p.meta.looseness.is_finite() && p.meta.looseness > 0.0) {
+        return Err(TopologyError::BadLooseness(p.meta.looseness));
+    }
+    let graph = knit_graph::build(p, opts)?;
+    let on_needle = graph.loops.iter().map(|l| l.slot + 1).max().unwrap_or(1);
+    let mut specs: Vec<usize> = graph.passes.iter().map(|pass| pass.spec).collect();
+    specs.sort_unstable();
+    specs.dedup();
+    let lay = layout::Layout::new(&p.meta, &opts.layout, on_needle, specs.len())?;
+    let geo = geometry::Geometry::new(&graph, &lay);
+    assemble::assemble(&graph, &lay, geo, &p.meta, opts)
+}
