@@ -4,7 +4,8 @@
 //! reference-counted) handles. We ask for the adapter's own limits instead of
 //! the WebGPU defaults because the default storage-binding cap (128 MiB) is
 //! reached by a Hessian with ~1M unknowns, while desktop GPUs and llvmpipe
-//! allow far more.
+//! allow far more. Buffers above the device's cap are refused with
+//! [`GpuError::BufferTooLarge`] rather than left to a wgpu validation panic.
 //!
 //! Tests need to behave differently on machines without any adapter: a
 //! developer laptop without Vulkan should skip, CI (which installs llvmpipe)
@@ -78,7 +79,14 @@ impl GpuContext {
     }
 
     async fn new_async() -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        // Vulkan/Metal/DX12 only: the GL backend's compute support is patchy
+        // and probing it on a headless machine only produces noise.
+        // `WGPU_BACKEND` still overrides the choice.
+        let descriptor = wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::PRIMARY,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        };
+        let instance = wgpu::Instance::new(descriptor.with_env());
         let adapter = instance
             .request_adapter(&wgpu::RequestAdapterOptions {
                 power_preference: wgpu::PowerPreference::HighPerformance,
