@@ -13,9 +13,15 @@
 //! excluded (setup is reported separately).
 //!
 //! `cargo run --release --example bench_gpu_cg -- --sizes 5000,50000,500000`
+//!
+//! Built without the `gpu` feature it only says so (the system generator
+//! still compiles, hence the dead-code allowance there).
+#![cfg_attr(not(feature = "gpu"), allow(dead_code))]
 
 use clap::Parser;
+#[cfg(feature = "gpu")]
 use knitsim::gpu::{GpuContext, GpuPcg, GpuPcgParams};
+#[cfg(feature = "gpu")]
 use knitsim::solver::linear::{pcg, BlockJacobi, CgParams};
 use knitsim::solver::sparse::CsrMatrix;
 use std::time::Instant;
@@ -140,6 +146,7 @@ struct Row {
     gpu_setup: f64,
 }
 
+#[cfg(feature = "gpu")]
 fn bench(ctx: &GpuContext, a: &CsrMatrix, iters: usize) -> anyhow::Result<Row> {
     let starts: Vec<usize> = (0..=a.n).step_by(3).collect();
     let b: Vec<f64> = (0..a.n).map(|i| ((i * 7919) % 201) as f64 / 100.0 - 1.0).collect();
@@ -188,6 +195,12 @@ fn bench(ctx: &GpuContext, a: &CsrMatrix, iters: usize) -> anyhow::Result<Row> {
     })
 }
 
+#[cfg(not(feature = "gpu"))]
+fn main() {
+    eprintln!("bench_gpu_cg needs the `gpu` feature");
+}
+
+#[cfg(feature = "gpu")]
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
     let ctx = GpuContext::new()?;

@@ -29,6 +29,8 @@ pub enum GpuError {
     Device(String),
     #[error("buffer `{name}` needs {bytes} bytes, above the device limit of {limit} bytes")]
     BufferTooLarge { name: &'static str, bytes: u64, limit: u64 },
+    #[error("the device ran out of memory while allocating the solver: {0}")]
+    OutOfMemory(String),
     #[error("block {block} has size {size}; the GPU preconditioner supports blocks of 1..=4 unknowns")]
     BlockSize { block: usize, size: usize },
     #[error("block starts must increase from 0 to n = {n}")]
