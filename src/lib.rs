@@ -12,7 +12,7 @@
 //! - [`scene`]: what to simulate: pins, obstacles, layers, parameters.
 //! - [`io`]: VTK, OBJ, PNG and JSON output, written atomically.
 
-// TEMP pub mod app;
+pub mod app;
 pub mod contact;
 pub mod energy;
 #[cfg(feature = "gpu")]

@@ -105,7 +105,7 @@ fn slip_stacked_too_high() {
 
 #[test]
 fn tuck_stacked_too_high() {
-    check("tuck-stacked.knit", ErrorKind::TuckStacked { count: 3, limit: 2 }, 7, 7);
+    check("tuck-stacked.knit", ErrorKind::TuckStacked { count: 2, limit: 1 }, 8, 7);
 }
 
 #[test]

@@ -48,6 +48,7 @@ fn sag_error(n: usize) -> f64 {
         RelaxOptions {
             tol: 1e-12,
             max_steps: 100,
+            newton_per_step: 100,
         },
         None,
         &mut |_, _| {},

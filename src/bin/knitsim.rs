@@ -1,1 +1,209 @@
-fn main() {}
+//! `knitsim`: the command line over the library. Parsing, progress display
+//! and error reporting only; every piece of work is a library call.
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use knitsim::app::{load_fabric, run_relax, RelaxJob};
+use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
+use knitsim::sim::{RelaxOptions, SimParams};
+use knitsim::solver::linear::LinearSolver;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+#[derive(Parser)]
+#[command(name = "knitsim", version, about = "Knit patterns to yarn-level simulation")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compile a pattern into yarn-level topology (JSON).
+    Compile {
+        pattern: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Print yarns, stitches per kind, loops, contact nodes, floats, rest length.
+        #[arg(long)]
+        stats: bool,
+    },
+    /// Write meshes and pictures of a topology or simulation state (or a pattern).
+    Export {
+        input: PathBuf,
+        #[arg(long)]
+        vtk: Option<PathBuf>,
+        #[arg(long)]
+        obj: Option<PathBuf>,
+        #[arg(long)]
+        png: Option<PathBuf>,
+    },
+    /// Relax a pattern (or a saved topology/state) to equilibrium.
+    Relax {
+        input: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Linear solver for the Newton steps.
+        #[arg(long, value_enum, default_value_t = SolverChoice::Auto)]
+        solver: SolverChoice,
+        /// A scene file (JSON) overriding the embedded default parameters.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Plain EoL without EIL nodes (to show why EIL matters).
+        #[arg(long)]
+        no_eil: bool,
+        /// Static residual tolerance (largest free force / axial stiffness).
+        #[arg(long, default_value_t = RelaxOptions::default().tol)]
+        tol: f64,
+        #[arg(long, default_value_t = RelaxOptions::default().max_steps)]
+        max_steps: usize,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SolverChoice {
+    Auto,
+    CpuDirect,
+    CpuCg,
+}
+
+fn main() {
+    if let Err(e) = run(Cli::parse()) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Compile { pattern, output, stats } => compile(&pattern, &output, stats),
+        Command::Export { input, vtk, obj, png } => export(&input, vtk, obj, png),
+        Command::Relax {
+            input,
+            output,
+            solver,
+            scene,
+            no_eil,
+            tol,
+            max_steps,
+        } => relax(
+            &input,
+            &output,
+            solver,
+            scene.as_deref(),
+            no_eil,
+            RelaxOptions {
+                tol,
+                max_steps,
+                ..RelaxOptions::default()
+            },
+        ),
+    }
+}
+
+fn load(path: &Path) -> Result<knitsim::app::Loaded> {
+    let loaded = load_fabric(path)?;
+    for w in &loaded.warnings {
+        eprintln!("{w}");
+    }
+    Ok(loaded)
+}
+
+fn compile(pattern: &Path, output: &Path, stats: bool) -> Result<()> {
+    let loaded = load(pattern)?;
+    save_json(&loaded.fabric, output)?;
+    if stats {
+        if let Some(p) = &loaded.pattern {
+            println!("{}", knitsim::topology::stats(p, &loaded.fabric));
+        }
+    }
+    println!("wrote {}", output.display());
+    Ok(())
+}
+
+fn export(input: &Path, vtk: Option<PathBuf>, obj: Option<PathBuf>, png: Option<PathBuf>) -> Result<()> {
+    if vtk.is_none() && obj.is_none() && png.is_none() {
+        bail!("nothing to export: give at least one of --vtk, --obj, --png");
+    }
+    let f = load(input)?.fabric;
+    if let Some(p) = vtk {
+        write_vtk(&f, &p, &VtkOptions::default())?;
+        println!("wrote {}", p.display());
+    }
+    if let Some(p) = obj {
+        write_obj(&f, &p, &ObjOptions::default())?;
+        println!("wrote {} (+ .mtl)", p.display());
+    }
+    if let Some(p) = png {
+        write_png(&f, &p, &PngOptions::default())?;
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+fn relax(
+    input: &Path,
+    out: &Path,
+    solver: SolverChoice,
+    scene: Option<&Path>,
+    no_eil: bool,
+    options: RelaxOptions,
+) -> Result<()> {
+    if !(options.tol > 0.0 && options.tol.is_finite()) {
+        bail!("--tol must be a positive number, got {}", options.tol);
+    }
+    let fabric = load(input)?.fabric;
+    let mut params = match scene {
+        Some(path) => knitsim::scene::load_params(path)?,
+        None => SimParams::default(),
+    };
+    if no_eil {
+        params.assign.enable_eil = false;
+    }
+    let solver = match solver {
+        SolverChoice::Auto | SolverChoice::CpuDirect => LinearSolver::direct(),
+        SolverChoice::CpuCg => LinearSolver::cg(),
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)).context("installing the Ctrl-C handler")?;
+    let bar = ProgressBar::new(options.max_steps as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} relax [{elapsed_precise}] step {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    let job = RelaxJob {
+        params,
+        options,
+        solver,
+        h: 1.0,
+        out_dir: out.to_path_buf(),
+    };
+    let outcome = run_relax(fabric, job, Some(&cancel), &mut |k, r| {
+        bar.set_position(k as u64);
+        bar.set_message(format!("residual {r:.3e}"));
+    })?;
+    bar.finish_and_clear();
+    let r = &outcome.report;
+    println!(
+        "{} steps, {} Newton iterations, max EIL {}; outputs in {}",
+        r.steps,
+        r.newton_iterations,
+        r.max_eil,
+        out.display()
+    );
+    let state = if r.converged {
+        "converged"
+    } else if r.cancelled {
+        "stopped by user"
+    } else {
+        "NOT converged"
+    };
+    println!(
+        "final residual {:.3e} ({state}, tol {:.1e}), wall time {:.2} s",
+        r.residual, options.tol, outcome.wall_s
+    );
+    Ok(())
+}

@@ -43,7 +43,7 @@ impl Default for Limits {
     fn default() -> Self {
         Limits {
             max_held_rows: 3,
-            max_stacked_tucks: 2,
+            max_stacked_tucks: 1,
             max_float_stitches: 5,
             max_float_cm: 2.5,
             max_width: 1000,

@@ -34,6 +34,7 @@
 //! same stencil with the roles of A and B swapped.
 
 use super::jet::{Jet, JetVec3};
+use crate::energy::psd::project_psd;
 use crate::energy::Stencil;
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::{PI, TAU};
@@ -83,13 +84,14 @@ impl Wrapping {
         Wrapping::new(kw, wrap_angle(q0))
     }
 
-    /// The wrap angle as a jet (exact gradient and Hessian), or `None`
-    /// where it is undefined.
-    fn angle_jet(q: &SVector<f64, 18>) -> Option<Jet<18>> {
-        let x = |i| JetVec3::variables(q, i);
-        let t1 = x(P).sub(&x(A_PREV));
-        let t2 = x(A_NEXT).sub(&x(Q));
-        let b = x(B_NEXT).sub(&x(B_PREV));
+    /// The wrap angle as a jet over the reduced variables `[t1, t2, b]`
+    /// (9 instead of 18: the angle depends on the six points only through
+    /// these differences, so the jet is 4x cheaper), or `None` where it is
+    /// undefined.
+    fn angle_jet(q: &SVector<f64, 18>) -> Option<Jet<9>> {
+        let r = reduce(q);
+        let x = |i| JetVec3::variables(&r, i);
+        let (t1, t2, b) = (x(0), x(3), x(6));
         let b_len2 = b.dot(&b);
         if b_len2.v <= 0.0 || !b_len2.v.is_finite() {
             return None;
@@ -106,28 +108,59 @@ impl Wrapping {
         Some(sin_part.atan2(&cos_part))
     }
 
+    /// Energy, gradient and Hessian in the reduced variables.
+    fn reduced(&self, q: &SVector<f64, 18>) -> Option<(f64, SVector<f64, 9>, SMatrix<f64, 9, 9>)> {
+        let phi = Self::angle_jet(q)?;
+        let d = wrap_to_half_turn(phi.v - self.rest_angle);
+        let e = phi.chain(0.5 * self.kw * d * d, self.kw * d, self.kw);
+        Some((e.v, e.g, e.h))
+    }
+
     /// Value, gradient and Hessian together.
     pub fn evaluate(&self, q: &SVector<f64, 18>) -> (f64, SVector<f64, 18>, SMatrix<f64, 18, 18>) {
-        match Self::angle_jet(q) {
-            Some(phi) => {
-                let d = wrap_to_half_turn(phi.v - self.rest_angle);
-                let e = phi.chain(0.5 * self.kw * d * d, self.kw * d, self.kw);
-                (e.v, e.g, e.h)
-            }
-            None => {
-                let d = wrap_to_half_turn(wrap_angle(q) - self.rest_angle);
-                let v = 0.5 * self.kw * d * d;
-                (if v.is_finite() { v } else { 0.0 }, SVector::zeros(), SMatrix::zeros())
-            }
+        match self.reduced(q) {
+            Some((v, g, h)) => (v, expand_gradient(&g), expand_hessian(&h)),
+            None => (self.value(q), SVector::zeros(), SMatrix::zeros()),
         }
     }
 }
 
+/// Block `k` of the 18 local coordinates enters the reduced variables as
+/// `sign * block[REDUCED[k].0]`: `t1 = P - a_prev`, `t2 = a_next - Q`,
+/// `b = b_next - b_prev`.
+const REDUCED: [(usize, f64); 6] = [(0, -1.0), (0, 1.0), (1, -1.0), (1, 1.0), (2, -1.0), (2, 1.0)];
+
+fn reduce(q: &SVector<f64, 18>) -> SVector<f64, 9> {
+    let at = |i: usize| Vector3::new(q[i], q[i + 1], q[i + 2]);
+    let (t1, t2, b) = (at(P) - at(A_PREV), at(A_NEXT) - at(Q), at(B_NEXT) - at(B_PREV));
+    SVector::<f64, 9>::from_fn(|i, _| [t1, t2, b][i / 3][i % 3])
+}
+
+/// `J^T g` for the constant map `J` of [`REDUCED`].
+fn expand_gradient(g: &SVector<f64, 9>) -> SVector<f64, 18> {
+    SVector::<f64, 18>::from_fn(|i, _| {
+        let (blk, sign) = REDUCED[i / 3];
+        sign * g[3 * blk + i % 3]
+    })
+}
+
+/// `J^T H J`: PSD whenever `H` is, so projecting the 9x9 suffices.
+fn expand_hessian(h: &SMatrix<f64, 9, 9>) -> SMatrix<f64, 18, 18> {
+    SMatrix::<f64, 18, 18>::from_fn(|i, j| {
+        let (bi, si) = REDUCED[i / 3];
+        let (bj, sj) = REDUCED[j / 3];
+        si * sj * h[(3 * bi + i % 3, 3 * bj + j % 3)]
+    })
+}
+
 impl Stencil<18> for Wrapping {
     fn value(&self, q: &SVector<f64, 18>) -> f64 {
-        match Self::angle_jet(q) {
-            Some(phi) => 0.5 * self.kw * wrap_to_half_turn(phi.v - self.rest_angle).powi(2),
-            None => self.evaluate(q).0,
+        // Plain f64: the line search calls this far more often than the derivatives.
+        let v = 0.5 * self.kw * wrap_to_half_turn(wrap_angle(q) - self.rest_angle).powi(2);
+        if v.is_finite() {
+            v
+        } else {
+            0.0
         }
     }
     fn gradient(&self, q: &SVector<f64, 18>) -> SVector<f64, 18> {
@@ -135,6 +168,15 @@ impl Stencil<18> for Wrapping {
     }
     fn hessian(&self, q: &SVector<f64, 18>) -> SMatrix<f64, 18, 18> {
         self.evaluate(q).2
+    }
+    fn derivatives(&self, q: &SVector<f64, 18>, project: bool) -> (SVector<f64, 18>, SMatrix<f64, 18, 18>) {
+        match self.reduced(q) {
+            Some((_, g, h)) => {
+                let h = if project { project_psd(&h) } else { h };
+                (expand_gradient(&g), expand_hessian(&h))
+            }
+            None => (SVector::zeros(), SMatrix::zeros()),
+        }
     }
 }
 
@@ -216,5 +258,20 @@ mod tests {
         let mut short = contact(1.0, 0.0, 0.05);
         put3(&mut short, A_PREV, &Vector3::zeros());
         assert_all_finite(&w, &short);
+    }
+
+    #[test]
+    fn reduced_space_projection_is_psd() {
+        let mut rng = Rng::new(7);
+        let w = Wrapping::new(3.0, 0.4);
+        for _ in 0..20 {
+            let q = rng.vector::<18>(1.0);
+            let (g, h) = w.derivatives(&q, false);
+            assert!((g - w.gradient(&q)).norm() < 1e-12 && (h - w.hessian(&q)).norm() < 1e-12);
+            let (_, hp) = w.derivatives(&q, true);
+            let (ev, _) = crate::energy::psd::sym_eigen(&hp);
+            let scale = h.norm().max(1.0);
+            assert!(ev.iter().all(|&e| e > -1e-10 * scale), "{ev:?}");
+        }
     }
 }

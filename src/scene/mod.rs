@@ -13,7 +13,7 @@ use std::path::Path;
 
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    #[error("{path}: {source}")]
+    #[error("cannot read scene file {path}")]
     Read { path: String, source: std::io::Error },
     #[error("{path}:{line}:{column}: {message}")]
     Parse {

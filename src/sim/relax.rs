@@ -16,13 +16,17 @@ pub struct RelaxOptions {
     /// Static residual tolerance (force / axial stiffness).
     pub tol: f64,
     pub max_steps: usize,
+    /// Newton iterations per proximal step; a step that stops at the cap
+    /// with lower energy is still accepted.
+    pub newton_per_step: usize,
 }
 
 impl Default for RelaxOptions {
     fn default() -> Self {
         RelaxOptions {
-            tol: 1e-6,
-            max_steps: 200,
+            tol: 1e-3,
+            max_steps: 100,
+            newton_per_step: 20,
         }
     }
 }
@@ -46,6 +50,7 @@ pub fn relax(
     on_iter: &mut dyn FnMut(&IterStats, usize),
     on_step: &mut dyn FnMut(usize, f64),
 ) -> Result<RelaxReport, SimError> {
+    sim.newton.max_iterations = opts.newton_per_step;
     let mut rep = RelaxReport {
         steps: 0,
         newton_iterations: 0,

@@ -376,6 +376,10 @@ fn parallel_terms(disc: &Discretization, q: &[f64], p: &SimParams) -> (Vec<Paral
             let (Some((c1, o1)), Some((c2, o2))) = (other[l.point(p1)], other[l.point(p2)]) else {
                 continue;
             };
+            // The two nodes of one stitch contact are one crossing, not two parallel yarns.
+            if f.contacts[c1].partner == Some(f.contacts[c2].node) {
+                continue;
+            }
             let (Some(s1), Some(s2)) = (side(p1, c1, o1), side(p2, c2, o2)) else {
                 continue;
             };

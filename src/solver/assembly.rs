@@ -21,7 +21,6 @@
 //!
 //! [`bind`]: AnyStencilSet::bind
 
-use crate::energy::psd;
 use crate::energy::Stencil;
 use crate::solver::sparse::CsrMatrix;
 use nalgebra::SVector;
@@ -175,11 +174,7 @@ impl<S: Stencil<N>, const N: usize> AnyStencilSet for StencilSet<S, N> {
         }
         for (k, (s, d)) in self.stencils.iter().zip(&self.dofs).enumerate() {
             let x = Self::gather(q, d);
-            let g = s.gradient(&x);
-            let mut hl = s.hessian(&x);
-            if project_psd {
-                hl = psd::project_psd(&hl);
-            }
+            let (g, hl) = s.derivatives(&x, project_psd);
             let slots = &self.slots[k * N * N..(k + 1) * N * N];
             for i in 0..N {
                 let r = d[i] as usize;

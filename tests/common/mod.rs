@@ -2,8 +2,8 @@
 #![allow(dead_code)]
 
 use knitsim::pattern::{Construction, Gauge, Meta, Pattern, YarnSpec};
-use knitsim::topology::{Fabric, Node, Vec3, Yarn, YarnPoint};
 use knitsim::topology::sample::{chart_pattern, tile};
+use knitsim::topology::{Fabric, Node, Vec3, Yarn, YarnPoint};
 
 /// A named structure: stitch tile and optional colour tile, top row first.
 pub type Structure = (&'static str, Vec<&'static str>, Option<Vec<&'static str>>);
@@ -37,7 +37,6 @@ pub fn pattern(t: &[&str], c: Option<&[&str]>, cons: Construction, w: usize, h: 
 }
 
 // Hand-made fabrics for the physics tests.
-
 
 pub fn meta(radius: f64) -> Meta {
     Meta {
