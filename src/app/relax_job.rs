@@ -32,8 +32,6 @@ pub struct RelaxJob {
     pub params: SimParams,
     pub options: RelaxOptions,
     pub solver: LinearSolver,
-    /// Initial (and largest) pseudo time step of the proximal steps (s).
-    pub h: f64,
     pub out_dir: PathBuf,
 }
 
@@ -69,7 +67,7 @@ pub fn run_relax(
         source,
     })?;
     let start = Instant::now();
-    let mut sim = Simulation::new(fabric, job.params, job.solver, job.h);
+    let mut sim = Simulation::new(fabric, job.params, job.solver, job.options.h_initial);
     let mut rows = Vec::new();
     let step = std::cell::Cell::new(0usize);
     let report = {

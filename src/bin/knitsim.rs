@@ -178,7 +178,6 @@ fn relax(
         params,
         options,
         solver,
-        h: 1.0,
         out_dir: out.to_path_buf(),
     };
     let outcome = run_relax(fabric, job, Some(&cancel), &mut |k, r| {

@@ -100,6 +100,17 @@ impl Stencil<12> for Bending {
     fn hessian(&self, q: &SVector<f64, 12>) -> SMatrix<f64, 12, 12> {
         self.evaluate(q).2
     }
+    fn derivatives(&self, q: &SVector<f64, 12>, project: bool) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
+        let (_, g, h) = self.evaluate(q);
+        if !project {
+            return (g, h);
+        }
+        // Invariant under translating the three nodes and shifting the three
+        // `u` together: project in (x1, u1, x2, u2) relative to (x0, u0).
+        const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
+        const ANCHOR: [usize; 8] = [0, 1, 2, 3, 0, 1, 2, 3];
+        (g, crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR))
+    }
 }
 
 #[cfg(test)]
@@ -157,6 +168,23 @@ mod tests {
             let q = bent(&mut rng, theta, l1, l2);
             check_derivatives(&b, &q, 1e-6, 1e-5);
             check_derivatives(&r, &q, 1e-6, 1e-5);
+        }
+    }
+
+    #[test]
+    fn projected_hessian_is_psd_and_keeps_translations_free() {
+        let mut rng = Rng::new(5);
+        let b = Bending::with_rest_angle(2.0, 0.3);
+        for _ in 0..30 {
+            let (theta, l1, l2) = (rng.range(0.05, 3.0), rng.range(0.3, 2.0), rng.range(0.3, 2.0));
+            let q = bent(&mut rng, theta, l1, l2);
+            let (g, hp) = b.derivatives(&q, true);
+            assert!((g - b.gradient(&q)).norm() < 1e-12);
+            let (ev, _) = crate::energy::psd::sym_eigen(&hp);
+            assert!(ev.iter().all(|&e| e > -1e-10 * hp.norm().max(1.0)), "{ev:?}");
+            // A common translation of the nodes and shift of the u stays a null vector.
+            let t = SVector::<f64, 12>::from_fn(|i, _| if i % 4 == 3 { 0.7 } else { [0.3, -0.2, 0.5][i % 4] });
+            assert!((hp * t).norm() < 1e-10 * hp.norm().max(1.0));
         }
     }
 

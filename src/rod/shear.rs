@@ -106,6 +106,17 @@ impl Stencil<12> for Shear {
     fn hessian(&self, q: &SVector<f64, 12>) -> SMatrix<f64, 12, 12> {
         self.evaluate(q).2
     }
+    fn derivatives(&self, q: &SVector<f64, 12>, project: bool) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
+        let (_, g, h) = self.evaluate(q);
+        if !project {
+            return (g, h);
+        }
+        // The crossing angle depends only on the two chords `a_next - a_prev`
+        // and `b_next - b_prev`: project in those six differences.
+        const KEPT: [usize; 6] = [3, 4, 5, 9, 10, 11];
+        const ANCHOR: [usize; 6] = [0, 1, 2, 6, 7, 8];
+        (g, crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR))
+    }
 }
 
 #[cfg(test)]

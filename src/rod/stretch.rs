@@ -91,22 +91,33 @@ impl Stencil<8> for Stretch {
     }
 
     fn gradient(&self, q: &SVector<f64, 8>) -> SVector<f64, 8> {
-        self.derivatives(q).0
+        self.grad_hess(q, false).0
     }
 
     fn hessian(&self, q: &SVector<f64, 8>) -> SMatrix<f64, 8, 8> {
-        self.derivatives(q).1
+        self.grad_hess(q, false).1
+    }
+
+    fn derivatives(&self, q: &SVector<f64, 8>, project: bool) -> (SVector<f64, 8>, SMatrix<f64, 8, 8>) {
+        self.grad_hess(q, project)
     }
 }
 
 impl Stretch {
-    /// Gradient and Hessian together (they share all intermediate terms).
-    pub fn derivatives(&self, q: &SVector<f64, 8>) -> (SVector<f64, 8>, SMatrix<f64, 8, 8>) {
+    /// Gradient and Hessian together (they share all intermediate terms);
+    /// with `project`, the 4x4 Hessian in `(dx, du)` is projected before
+    /// scattering (see `psd::project_psd_reduced` for why that suffices).
+    pub fn grad_hess(&self, q: &SVector<f64, 8>, project: bool) -> (SVector<f64, 8>, SMatrix<f64, 8, 8>) {
         let (dx, l, du) = strain_vars(q);
         if du <= 0.0 {
             return (SVector::zeros(), SMatrix::zeros());
         }
         let (g, h) = reduced(self.ks, &dx, l, du);
+        let h = if project {
+            crate::energy::psd::project_psd(&h)
+        } else {
+            h
+        };
         scatter(&g, &h)
     }
 }

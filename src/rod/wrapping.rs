@@ -24,9 +24,20 @@
 //! `phi_rest` comes from the initial configuration ([`Wrapping::at_rest`]).
 //! `wrap` maps the difference to `(-pi, pi]`: it only shifts the value, so
 //! the energy is smooth while the wrap stays within half a turn of rest. The
-//! remaining singularities are genuine: A's arriving or leaving direction
-//! parallel to B (the projected angle is undefined; the derivatives are set
-//! to zero there) and `|b| = 0`.
+//! remaining singularity is genuine: A's arriving or leaving direction
+//! parallel to B, where the projected angle is undefined and its
+//! derivatives grow like `1 / |p|`. Newton iterates do wander there
+//! (a 16x16 stockinette relax hit forces of 1e4 N from it), so the energy
+//! is faded out smoothly as the projections vanish:
+//!
+//! ```text
+//! c = |p1|^2 |p2|^2 / (|t1|^2 |t2|^2)       (1 when A crosses B squarely)
+//! V = s(c) 1/2 kw wrap(phi - phi_rest)^2,    s = smoothstep from C_OFF to C_ON
+//! ```
+//!
+//! `s = 1` for every real stitch geometry (A crosses B at well over 20
+//! degrees); `s = 0` where the angle is undefined, so `V` is `C^1` with a
+//! bounded Hessian everywhere except `|b| = 0`.
 //!
 //! The terms are products of a dozen dot and cross products, so value,
 //! gradient and Hessian come from second-order forward differentiation
@@ -64,6 +75,41 @@ pub fn wrap_angle(q: &SVector<f64, 18>) -> f64 {
     b.dot(&t1.cross(&t2)).atan2(t1.dot(&t2) - t1.dot(&b) * t2.dot(&b))
 }
 
+/// Below this `c` (module doc) the wrapping energy is off: A within about
+/// 8 degrees of B's axis at both ends.
+const C_OFF: f64 = 0.02;
+/// Above this `c` the wrapping energy is fully on (about 18 degrees).
+const C_ON: f64 = 0.1;
+
+/// The fade `s(c)` with its first two derivatives.
+fn fade(c: f64) -> (f64, f64, f64) {
+    let w = C_ON - C_OFF;
+    let x = (c - C_OFF) / w;
+    if x <= 0.0 {
+        (0.0, 0.0, 0.0)
+    } else if x >= 1.0 {
+        (1.0, 0.0, 0.0)
+    } else {
+        (
+            x * x * (3.0 - 2.0 * x),
+            6.0 * x * (1.0 - x) / w,
+            (6.0 - 12.0 * x) / (w * w),
+        )
+    }
+}
+
+/// The fade of a local vector, plain `f64`.
+fn fade_value(q: &SVector<f64, 18>) -> f64 {
+    let r = reduce(q);
+    let at = |i: usize| Vector3::new(r[i], r[i + 1], r[i + 2]);
+    let (t1, t2, b) = (at(0), at(3), at(6));
+    let bh = b.normalize();
+    let p1 = t1 - bh * t1.dot(&bh);
+    let p2 = t2 - bh * t2.dot(&bh);
+    let c = p1.norm_squared() * p2.norm_squared() / (t1.norm_squared() * t2.norm_squared());
+    fade(c).0
+}
+
 /// `d` shifted by whole turns into `(-pi, pi]`.
 fn wrap_to_half_turn(d: f64) -> f64 {
     let r = d.rem_euclid(TAU);
@@ -88,7 +134,7 @@ impl Wrapping {
     /// (9 instead of 18: the angle depends on the six points only through
     /// these differences, so the jet is 4x cheaper), or `None` where it is
     /// undefined.
-    fn angle_jet(q: &SVector<f64, 18>) -> Option<Jet<9>> {
+    fn angle_jet(q: &SVector<f64, 18>) -> Option<(Jet<9>, Jet<9>)> {
         let r = reduce(q);
         let x = |i| JetVec3::variables(&r, i);
         let (t1, t2, b) = (x(0), x(3), x(6));
@@ -99,20 +145,30 @@ impl Wrapping {
         let bh = b.scale(&b_len2.sqrt().recip());
         let sin_part = bh.dot(&t1.cross(&t2));
         let cos_part = t1.dot(&t2) - t1.dot(&bh) * t2.dot(&bh);
-        let r2 = sin_part.v * sin_part.v + cos_part.v * cos_part.v;
-        let scale = t1.dot(&t1).v * t2.dot(&t2).v;
+        // |p1|^2 |p2|^2 = sin_part^2 + cos_part^2 (Lagrange's identity in the plane).
+        let r2 = sin_part * sin_part + cos_part * cos_part;
+        let scale = t1.dot(&t1) * t2.dot(&t2);
         // Also rejects NaN (comparisons with NaN are false).
-        if r2.is_nan() || r2 <= 1e-28 * scale {
+        if !(r2.v > 1e-28 * scale.v) {
             return None;
         }
-        Some(sin_part.atan2(&cos_part))
+        let c = r2 * scale.recip();
+        Some((sin_part.atan2(&cos_part), c))
     }
 
     /// Energy, gradient and Hessian in the reduced variables.
     fn reduced(&self, q: &SVector<f64, 18>) -> Option<(f64, SVector<f64, 9>, SMatrix<f64, 9, 9>)> {
-        let phi = Self::angle_jet(q)?;
+        let (phi, c) = Self::angle_jet(q)?;
+        let (s, ds, d2s) = fade(c.v);
+        if s == 0.0 {
+            return Some((0.0, SVector::zeros(), SMatrix::zeros()));
+        }
         let d = wrap_to_half_turn(phi.v - self.rest_angle);
         let e = phi.chain(0.5 * self.kw * d * d, self.kw * d, self.kw);
+        if s == 1.0 {
+            return Some((e.v, e.g, e.h));
+        }
+        let e = e * c.chain(s, ds, d2s);
         Some((e.v, e.g, e.h))
     }
 
@@ -156,7 +212,7 @@ fn expand_hessian(h: &SMatrix<f64, 9, 9>) -> SMatrix<f64, 18, 18> {
 impl Stencil<18> for Wrapping {
     fn value(&self, q: &SVector<f64, 18>) -> f64 {
         // Plain f64: the line search calls this far more often than the derivatives.
-        let v = 0.5 * self.kw * wrap_to_half_turn(wrap_angle(q) - self.rest_angle).powi(2);
+        let v = fade_value(q) * 0.5 * self.kw * wrap_to_half_turn(wrap_angle(q) - self.rest_angle).powi(2);
         if v.is_finite() {
             v
         } else {
@@ -258,6 +314,21 @@ mod tests {
         let mut short = contact(1.0, 0.0, 0.05);
         put3(&mut short, A_PREV, &Vector3::zeros());
         assert_all_finite(&w, &short);
+    }
+
+    #[test]
+    fn fades_out_smoothly_as_a_turns_along_b() {
+        // A leaves with direction (cos phi, sin phi, rise): c = 1 / (1 + rise^2).
+        let w = Wrapping::new(2.0, 0.3);
+        for rise in [3.5, 4.36, 6.0] {
+            // c = 0.075, 0.05 (inside the fade) and 0.027 (near its end).
+            check_derivatives(&w, &contact(1.0, rise, 0.05), 1e-7, 1e-5);
+        }
+        // Steep enough that the angle is meaningless: no energy, no force.
+        let steep = contact(1.0, 10.0, 0.05);
+        assert!(w.value(&steep) == 0.0 && w.gradient(&steep).norm() == 0.0);
+        // A square crossing is untouched by the fade: V = kw/2 (1 - 0.3)^2.
+        assert!((w.value(&contact(1.0, 0.0, 0.05)) - 0.49).abs() < 1e-12);
     }
 
     #[test]

@@ -6,6 +6,16 @@
 //! the wildly unbalanced compiled geometry) and becomes plain Newton on `V`
 //! as `h` grows. Converged when the static residual (largest free force
 //! over the axial stiffness) is below `tol`.
+//!
+//! The schedule is pseudo-transient continuation: `h` starts small, where
+//! the proximal term dominates the compiled geometry's large unbalanced
+//! forces and every step converges in a few Newton iterations, and doubles
+//! after each converged step up to `h_max`, where the step is Newton on `V`
+//! alone. Starting at a large `h` instead stalls: the free patch's
+//! near-null modes (rigid motions, yarn sliding) let full Newton steps
+//! rotate whole loops, and the stiff stretch terms make every such step
+//! only linearly convergent (measured on a 4x4 stockinette: 60 iterations
+//! to reach what 20 do with the schedule).
 
 use super::simulation::{SimError, Simulation};
 use crate::solver::newton::IterStats;
@@ -19,6 +29,13 @@ pub struct RelaxOptions {
     /// Newton iterations per proximal step; a step that stops at the cap
     /// with lower energy is still accepted.
     pub newton_per_step: usize,
+    /// First pseudo time step (s).
+    pub h_initial: f64,
+    /// Largest pseudo time step (s).
+    pub h_max: f64,
+    /// Newton's relative residual tolerance inside one step; steps need
+    /// not be solved tighter than the continuation moves them.
+    pub newton_rel_tol: f64,
 }
 
 impl Default for RelaxOptions {
@@ -27,6 +44,9 @@ impl Default for RelaxOptions {
             tol: 1e-3,
             max_steps: 100,
             newton_per_step: 20,
+            h_initial: 1e-3,
+            h_max: 1e2,
+            newton_rel_tol: 1e-6,
         }
     }
 }
@@ -51,6 +71,10 @@ pub fn relax(
     on_step: &mut dyn FnMut(usize, f64),
 ) -> Result<RelaxReport, SimError> {
     sim.newton.max_iterations = opts.newton_per_step;
+    sim.newton.rel_residual_tol = opts.newton_rel_tol;
+    sim.h = opts.h_initial;
+    sim.h_min = opts.h_initial * 1e-4;
+    sim.h_max = opts.h_max;
     let mut rep = RelaxReport {
         steps: 0,
         newton_iterations: 0,
