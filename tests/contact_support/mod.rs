@@ -15,7 +15,11 @@ pub fn segment_distance(p0: &Vec3, p1: &Vec3, q0: &Vec3, q1: &Vec3) -> f64 {
     let point_seg = |x: &Vec3, a: &Vec3, b: &Vec3| {
         let ab = b - a;
         let l2 = ab.norm_squared();
-        let t = if l2 > 0.0 { ((x - a).dot(&ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if l2 > 0.0 {
+            ((x - a).dot(&ab) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         (x - (a + ab * t)).norm()
     };
     let mut best = point_seg(p0, q0, q1)
