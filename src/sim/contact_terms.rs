@@ -492,3 +492,25 @@ impl Problem for RestartOnTrust<'_> {
         self.problem.blocks()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_keys_select_the_mode() {
+        let off: SimParams = serde_json::from_str("{}").expect("empty scene");
+        assert_eq!(off.contact, None, "contact is off unless a scene asks for it");
+        let on: SimParams = serde_json::from_str(r#"{"contact": {}}"#).expect("contact object");
+        assert_eq!(on.contact.as_ref().map(|c| c.mode()), Some(ContactMode::Filtered));
+        let culled: SimParams =
+            serde_json::from_str(r#"{"contact": {"mode": "culled", "cull_window": 5}}"#).expect("culled");
+        assert_eq!(
+            culled.contact.as_ref().map(|c| c.mode()),
+            Some(ContactMode::Culled { window: 5 })
+        );
+        assert!(serde_json::from_str::<SimParams>(r#"{"contact": {"mode": "tight"}}"#).is_err());
+        assert_eq!("barrier".parse(), Ok(ContactModeName::Barrier));
+        assert!("bogus".parse::<ContactModeName>().is_err());
+    }
+}
