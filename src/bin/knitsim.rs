@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use knitsim::app::{load_fabric, run_relax, RelaxJob};
 use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
-use knitsim::sim::{RelaxOptions, SimParams};
+use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions, SimParams};
 use knitsim::solver::linear::LinearSolver;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -59,6 +59,11 @@ enum Command {
         tol: f64,
         #[arg(long, default_value_t = RelaxOptions::default().max_steps)]
         max_steps: usize,
+        /// Non-persistent yarn-yarn contact: none, penalty, barrier, culled
+        /// or filtered (overrides the scene's "contact" mode; default: off
+        /// unless the scene enables it).
+        #[arg(long, value_name = "MODE")]
+        contact: Option<ContactModeName>,
     },
 }
 
@@ -88,12 +93,14 @@ fn run(cli: Cli) -> Result<()> {
             no_eil,
             tol,
             max_steps,
+            contact,
         } => relax(
             &input,
             &output,
             solver,
             scene.as_deref(),
             no_eil,
+            contact,
             RelaxOptions {
                 tol,
                 max_steps,
@@ -149,6 +156,7 @@ fn relax(
     solver: SolverChoice,
     scene: Option<&Path>,
     no_eil: bool,
+    contact: Option<ContactModeName>,
     options: RelaxOptions,
 ) -> Result<()> {
     if !(options.tol > 0.0 && options.tol.is_finite()) {
@@ -161,6 +169,12 @@ fn relax(
     };
     if no_eil {
         params.assign.enable_eil = false;
+    }
+    if let Some(mode) = contact {
+        params.contact = Some(ContactParams {
+            mode,
+            ..params.contact.unwrap_or_default()
+        });
     }
     let solver = match solver {
         SolverChoice::Auto | SolverChoice::CpuDirect => LinearSolver::direct(),

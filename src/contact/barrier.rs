@@ -159,6 +159,14 @@ impl AdaptiveStiffness {
             0.0
         };
         let kappa_max = params.max_stiffness_factor * kappa_min;
+        Self::balanced(kappa_min, kappa_max, grad_energy, grad_barrier)
+    }
+
+    /// The least-squares balance of the two gradients (see [`Self::initial`])
+    /// clamped to caller-given bounds. Quasi-static solves have no mass
+    /// scale, so the simulator derives its bounds from the bending
+    /// stiffness instead (`sim::contact_terms`).
+    pub fn balanced(kappa_min: f64, kappa_max: f64, grad_energy: &[f64], grad_barrier: &[f64]) -> Self {
         let gb2: f64 = grad_barrier.iter().map(|g| g * g).sum();
         let ge_gb: f64 = grad_energy.iter().zip(grad_barrier).map(|(e, b)| e * b).sum();
         let balance = if gb2 > 0.0 { -ge_gb / gb2 } else { kappa_min };

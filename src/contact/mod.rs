@@ -19,6 +19,11 @@
 //!    scalar barrier and IPC's adaptive `kappa`).
 //! 4. [`ccd`]: the largest safe step along a Newton direction.
 //!
+//! [`exclusion`] drops pairs joined by a persistent EoL contact. The wiring
+//! into the simulator (candidate lists per solve, adaptive stiffness, the
+//! CCD line-search cap) is `sim::contact_terms`; docs/CONTACT.md gives the
+//! user-level view.
+//!
 //! Reference values: `tests/contact_ipctk.rs` compares barrier, distances
 //! and CCD with ipc-toolkit (fixtures from `scripts/ipctk_fixtures.py`).
 
@@ -26,6 +31,7 @@ pub mod barrier;
 pub mod broad_phase;
 pub mod ccd;
 pub mod distance;
+pub mod exclusion;
 pub mod filter;
 pub mod rest;
 pub mod set;

@@ -10,6 +10,7 @@ use super::barrier::BarrierShape;
 use super::broad_phase::{edge_edge_candidates, overlapping_pairs, swept_segment_boxes};
 use super::ccd::{max_step_fraction, CcdParams};
 use super::distance::edge_edge_distance_sq;
+use super::exclusion::JoinedSegments;
 use super::filter::{needs_reference_distance, stencil_shape, uses_ccd, ContactMode, PairRest, ThicknessParams};
 use super::rest::{ContactSegments, RestGraph};
 use super::stencil::{EdgeEdgeBarrier, EdgeEdgePenalty};
@@ -59,6 +60,20 @@ impl Stencil<12> for ContactStencil {
             ContactEnergy::Penalty(p) => p.hessian(x),
         }
     }
+
+    /// One distance evaluation for both derivatives; inactive pairs (most
+    /// candidates of a solve) skip the eigen-projection.
+    fn derivatives(&self, x: &SVector<f64, 12>, project: bool) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
+        let (g, h) = match &self.energy {
+            ContactEnergy::Barrier(b) => b.derivs(x),
+            ContactEnergy::Penalty(p) => p.derivs(x),
+        };
+        if project && h.iter().any(|v| *v != 0.0) {
+            (g, crate::energy::psd::project_psd(&h))
+        } else {
+            (g, h)
+        }
+    }
 }
 
 /// Segments, rest graph, mode and thickness of a contact problem.
@@ -68,6 +83,8 @@ pub struct ContactSet {
     pub mode: ContactMode,
     pub params: ThicknessParams,
     pub ccd: CcdParams,
+    /// Pairs joined by a persistent EoL contact (skipped in every mode).
+    pub joined: Option<JoinedSegments>,
     graph: RestGraph,
 }
 
@@ -79,8 +96,15 @@ impl ContactSet {
             mode,
             params,
             ccd: CcdParams::default(),
+            joined: None,
             graph,
         }
+    }
+
+    /// Skips the pairs that `joined` marks (see [`super::exclusion`]).
+    pub fn with_exclusion(mut self, joined: JoinedSegments) -> Self {
+        self.joined = Some(joined);
+        self
     }
 
     /// `dbar_min` of seed 003 sec. 3.2.
@@ -105,6 +129,9 @@ impl ContactSet {
             };
             for (&[a, b], dbar) in group.iter().zip(dbar) {
                 let (a, b) = (a as usize, b as usize);
+                if self.joined.as_ref().is_some_and(|j| j.joined(a, b)) {
+                    continue;
+                }
                 let pair = PairRest {
                     same_yarn: segs.yarn[a] == segs.yarn[b],
                     index_gap: segs.index_in_yarn[a].abs_diff(segs.index_in_yarn[b]),
@@ -118,6 +145,55 @@ impl ContactSet {
         out
     }
 
+    /// Every kept pair whose segments are closer than `reach` (at least the
+    /// thickness) at `x`, active or not: the candidate list of a solve that
+    /// keeps its Hessian pattern while positions move by less than
+    /// `(reach - thickness) / 2` (see `sim::contact_terms`).
+    pub fn candidates(&self, x: &[V3], reach: f64) -> Vec<([u32; 2], BarrierShape)> {
+        if self.mode == ContactMode::None {
+            return Vec::new();
+        }
+        let reach = reach.max(self.params.thickness);
+        let segs = &self.segments.nodes;
+        self.classify(&edge_edge_candidates(x, segs, reach))
+            .into_iter()
+            .filter(|([i, j], _)| {
+                let (a, b) = (segs[*i as usize], segs[*j as usize]);
+                edge_edge_distance_sq(&x[a[0]], &x[a[1]], &x[b[0]], &x[b[1]]) < reach * reach
+            })
+            .collect()
+    }
+
+    /// The stencil of a kept pair with barrier stiffness `kappa`.
+    pub fn stencil(&self, pair: [u32; 2], shape: BarrierShape, kappa: f64) -> ContactStencil {
+        let segs = &self.segments.nodes;
+        let (a, b) = (segs[pair[0] as usize], segs[pair[1] as usize]);
+        let energy = match self.mode {
+            ContactMode::Penalty => ContactEnergy::Penalty(EdgeEdgePenalty {
+                stiffness: self.params.penalty_stiffness,
+                thickness: shape.activation,
+            }),
+            _ => ContactEnergy::Barrier(EdgeEdgeBarrier {
+                stiffness: kappa,
+                shape,
+            }),
+        };
+        ContactStencil {
+            nodes: [a[0], a[1], b[0], b[1]],
+            energy,
+        }
+    }
+
+    /// Largest fraction of `dx` keeping every listed pair outside its core
+    /// (additive CCD on exactly these pairs; 1 for modes without CCD).
+    pub fn max_step_pairs(&self, x: &[V3], dx: &[V3], pairs: &[([u32; 2], BarrierShape)]) -> f64 {
+        if !uses_ccd(self.mode) {
+            return 1.0;
+        }
+        let with_core: Vec<([u32; 2], f64)> = pairs.iter().map(|(p, s)| (*p, s.core)).collect();
+        max_step_fraction(x, dx, &self.segments.nodes, &with_core, &self.ccd)
+    }
+
     /// Active stencils at positions `x` with barrier stiffness `kappa`.
     pub fn stencils(&self, x: &[V3], kappa: f64) -> Vec<ContactStencil> {
         if self.mode == ContactMode::None {
@@ -129,23 +205,9 @@ impl ContactSet {
         for ([i, j], shape) in self.classify(&candidates) {
             let (a, b) = (segs[i as usize], segs[j as usize]);
             let d2 = edge_edge_distance_sq(&x[a[0]], &x[a[1]], &x[b[0]], &x[b[1]]);
-            if d2 >= shape.activation * shape.activation {
-                continue;
+            if d2 < shape.activation * shape.activation {
+                out.push(self.stencil([i, j], shape, kappa));
             }
-            let energy = match self.mode {
-                ContactMode::Penalty => ContactEnergy::Penalty(EdgeEdgePenalty {
-                    stiffness: self.params.penalty_stiffness,
-                    thickness: shape.activation,
-                }),
-                _ => ContactEnergy::Barrier(EdgeEdgeBarrier {
-                    stiffness: kappa,
-                    shape,
-                }),
-            };
-            out.push(ContactStencil {
-                nodes: [a[0], a[1], b[0], b[1]],
-                energy,
-            });
         }
         out
     }

@@ -8,6 +8,7 @@
 //! stay generic.
 
 pub mod assignment;
+pub mod contact_terms;
 pub mod dofs;
 pub mod inertia;
 pub mod params;
@@ -16,6 +17,7 @@ pub mod relax;
 pub mod simulation;
 pub mod system;
 
+pub use contact_terms::{ContactModeName, ContactParams};
 pub use params::{SimParams, Terms};
 pub use relax::{relax, RelaxOptions, RelaxReport};
 pub use simulation::{SimError, Simulation, StepReport};

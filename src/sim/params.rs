@@ -7,6 +7,7 @@
 use crate::rod::params::RodParams;
 use crate::scene::Shape;
 use crate::sim::assignment::AssignParams;
+use crate::sim::contact_terms::ContactParams;
 use serde::{Deserialize, Serialize};
 
 /// Which energy terms exist.
@@ -43,6 +44,10 @@ pub struct SimParams {
     pub obstacles: Vec<Shape>,
     /// Penalty stiffness of obstacles (N/m).
     pub obstacle_stiffness: f64,
+    /// Non-persistent yarn-yarn contact; `None` (no `"contact"` key) = off
+    /// and free. See `sim::contact_terms`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactParams>,
 }
 
 impl Default for SimParams {
@@ -53,6 +58,7 @@ impl Default for SimParams {
             terms: Terms::default(),
             obstacles: Vec::new(),
             obstacle_stiffness: 1e5,
+            contact: None,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! The Newton [`Problem`] of one step: the stencil sets of the current
 //! discretization, the free mask, and the block partition for CG.
 
+use super::contact_terms::ContactTerms;
 use crate::solver::assembly::{assemble, bind_all, hessian_pattern, total_energy, AnyStencilSet, AssemblyError};
 use crate::solver::newton::Problem;
 use crate::solver::sparse::CsrMatrix;
@@ -10,6 +11,9 @@ pub struct EolProblem {
     pub free: Vec<bool>,
     /// Node `x` blocks of 3 then one block per `u`.
     pub blocks: Vec<usize>,
+    /// Non-persistent contact of this solve (`None` when off): its stencil
+    /// set is in `sets`; this holds the candidate list and the CCD cap.
+    pub contact: Option<ContactTerms>,
     pattern: CsrMatrix,
 }
 
@@ -31,8 +35,21 @@ impl EolProblem {
             sets,
             free,
             blocks,
+            contact: None,
             pattern,
         })
+    }
+
+    /// Replaces (or removes, with `None`) the set called `name` and rebuilds
+    /// the Hessian pattern; used when the contact candidates change.
+    pub fn replace_set(&mut self, name: &str, set: Option<Box<dyn AnyStencilSet>>) -> Result<(), AssemblyError> {
+        self.sets.retain(|s| s.name() != name);
+        if let Some(s) = set {
+            s.validate(self.free.len())?;
+            self.sets.push(s);
+        }
+        self.pattern = hessian_pattern(self.free.len(), &self.sets);
+        bind_all(&mut self.sets, &self.pattern)
     }
 
     /// Energy per term name, for diagnostics.
@@ -62,6 +79,9 @@ impl Problem for EolProblem {
     }
     fn free(&self) -> &[bool] {
         &self.free
+    }
+    fn max_step(&mut self, q: &[f64], dq: &[f64]) -> f64 {
+        self.contact.as_ref().map_or(1.0, |c| c.max_step(q, dq))
     }
     fn blocks(&self) -> Vec<usize> {
         self.blocks.clone()

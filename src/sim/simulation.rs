@@ -8,6 +8,7 @@
 //! spring exceeds the Coulomb bound `mu |f_n|`.
 
 use super::assignment::{assign, free_mask, Assignment};
+use super::contact_terms::{self, ContactState, ContactTerms};
 use super::dofs::DofLayout;
 use super::params::SimParams;
 use super::problem::EolProblem;
@@ -15,7 +16,7 @@ use super::system::{build_sets, rest_data, Discretization, RestData, StepInputs}
 use crate::rod::friction::coulomb_update;
 use crate::solver::assembly::AssemblyError;
 use crate::solver::linear::LinearSolver;
-use crate::solver::newton::{minimize, IterStats, NewtonError, NewtonHooks, NewtonParams, NewtonStatus};
+use crate::solver::newton::{IterStats, NewtonError, NewtonHooks, NewtonParams, NewtonStatus};
 use crate::topology::{Fabric, PointRef};
 use std::sync::atomic::AtomicBool;
 
@@ -55,6 +56,8 @@ pub struct Simulation {
     pub h_min: f64,
     pub h_max: f64,
     pub time: f64,
+    /// Barrier stiffness and gap carried between steps (contact on only).
+    pub contact: ContactState,
 }
 
 impl Simulation {
@@ -80,6 +83,7 @@ impl Simulation {
             h_min: h * 1e-4,
             h_max: h,
             time: 0.0,
+            contact: ContactState::default(),
         }
     }
 
@@ -92,7 +96,11 @@ impl Simulation {
         };
         let sets = build_sets(&disc, &self.q, &self.params, &self.rest, &step);
         let free = free_mask(&self.fabric, &self.layout, &self.assignment);
-        Ok(EolProblem::new(self.layout.n_nodes, self.layout.len(), sets, free)?)
+        let mut problem = EolProblem::new(self.layout.n_nodes, self.layout.len(), sets, free)?;
+        if let Some(terms) = ContactTerms::new(&disc, &self.q, &self.params, &self.contact) {
+            problem.attach_contact(&self.q, terms)?;
+        }
+        Ok(problem)
     }
 
     /// Largest free-row force of the potential alone (no inertia), in
@@ -152,7 +160,7 @@ impl Simulation {
                 on_iteration: Some(&mut cb),
                 cancel,
             };
-            let report = minimize(&mut problem, &mut q, &mut self.solver, &self.newton, hooks)?;
+            let report = contact_terms::minimize(&mut problem, &mut q, &mut self.solver, &self.newton, hooks)?;
             // A relaxation step is a proximal step in pseudo time: any iterate
             // that lowered the energy is progress, so hitting the iteration cap
             // is not a failure there (dynamics must converge every step).
@@ -165,6 +173,9 @@ impl Simulation {
                 } else {
                     vec![0.0; q.len()]
                 };
+                if let Some(c) = &problem.contact {
+                    self.contact = c.state(&q);
+                }
                 self.q = q;
                 self.time += h;
                 self.update_anchors();
