@@ -9,11 +9,16 @@
 //! Munden's ratio and splits the difference when it does not:
 //!
 //! ```text
-//! l = looseness * sqrt(k_c k_w w h),    floored at  l_jam = 16.6 d
+//! l = looseness * max( sqrt(k_c k_w w h),  l_jam = 16.6 d )
 //! ```
 //!
 //! The floor is the yarn-diameter term: Peirce's jammed loop is the
-//! shortest loop a yarn of diameter `d` can form, whatever the gauge says.
+//! shortest loop an incompressible yarn of diameter `d` can form, whatever
+//! the gauge says. Looseness scales the result, floor included: a designer
+//! who asks for a tight knit of a yarn that is already at its jam length
+//! for the gauge (every shipped pattern is: 0.75 mm radius at 24 sts)
+//! gets a shorter loop, which a real, compressible yarn allows, rather
+//! than a looseness that silently does nothing.
 //! With the defaults (k_c = 5.0, k_w = 3.8) a 22 x 30 gauge gives
 //! `l = sqrt(19 * 4.55 mm * 3.33 mm) = 16.9 mm`. A loop keeps its length when
 //! it is slipped: a slipped loop is the same yarn, stretched over two rows
@@ -35,8 +40,8 @@ use super::path::Owner;
 /// Rest yarn length of one loop, from the gauge pitches `w`, `h` (m), the
 /// yarn diameter `d` (m) and the pattern's looseness.
 pub fn stitch_length(w: f64, h: f64, d: f64, looseness: f64, opts: &CompileOptions) -> f64 {
-    let munden = looseness * (opts.munden_kc * opts.munden_kw * w * h).sqrt();
-    munden.max(opts.jammed_loop_diameters * d)
+    let munden = (opts.munden_kc * opts.munden_kw * w * h).sqrt();
+    looseness * munden.max(opts.jammed_loop_diameters * d)
 }
 
 /// Rest length of a float over one stitch of width `w`.
@@ -89,9 +94,12 @@ mod tests {
         let opts = CompileOptions::default();
         let l = stitch_length(0.1 / 22.0, 0.1 / 30.0, 1.0e-3, 1.0, &opts);
         assert!((l - 16.967e-3).abs() < 1e-5, "{l}");
-        // Tight (0.85) scales it; a 1 mm yarn's jam floor (16.6 mm) now binds.
+        // Tight (0.85) scales it: 14.42 mm.
         let tight = stitch_length(0.1 / 22.0, 0.1 / 30.0, 1.0e-3, 0.85, &opts);
-        assert!((tight - 16.6e-3).abs() < 1e-12, "{tight}");
+        assert!((tight - 0.85 * 16.967e-3).abs() < 1e-5, "{tight}");
+        // A 1.2 mm yarn's jam floor (19.92 mm) binds, and looseness scales it.
+        let loose = stitch_length(0.1 / 22.0, 0.1 / 30.0, 1.2e-3, 1.2, &opts);
+        assert!((loose - 1.2 * 16.6 * 1.2e-3).abs() < 1e-12, "{loose}");
     }
 
     #[test]

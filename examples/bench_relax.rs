@@ -1,0 +1,112 @@
+//! Relaxation benchmark: stockinette and linen stitch at N x N stitches.
+//!
+//! Prints, per case: nodes, DOFs, Newton iterations, seconds to
+//! equilibrium (the default `RelaxOptions` tolerance), seconds per Newton
+//! iteration, peak resident memory, and the final static residual; then
+//! the fitted exponent of seconds per iteration against DOFs.
+//!
+//! Each case runs in a child process so its peak memory (`VmHWM`) is its
+//! own. Not a test. Run with
+//! `cargo run --release --no-default-features --example bench_relax -- [SIZES]`
+//! where SIZES defaults to `20,40` (add 80 for the full table: minutes).
+
+use knitsim::pattern::parse_str;
+use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
+use knitsim::solver::linear::LinearSolver;
+use knitsim::topology::{compile, CompileOptions};
+use std::process::Command;
+use std::time::Instant;
+
+const PATTERNS: [&str; 2] = ["stockinette", "linen-stitch"];
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    if args.get(1).map(String::as_str) == Some("--case") {
+        return run_case(&args[2], args[3].parse()?);
+    }
+    let sizes: Vec<usize> = args
+        .get(1)
+        .map(String::as_str)
+        .unwrap_or("20,40")
+        .split(',')
+        .map(str::parse)
+        .collect::<Result<_, _>>()?;
+    println!("| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let mut fit: Vec<(f64, f64)> = Vec::new();
+    for name in PATTERNS {
+        for &n in &sizes {
+            let out = Command::new(&args[0]).args(["--case", name, &n.to_string()]).output()?;
+            let row = String::from_utf8_lossy(&out.stdout);
+            let row = row.trim();
+            if !out.status.success() || row.is_empty() {
+                println!("| {name} | {n}x{n} | failed: {} |", String::from_utf8_lossy(&out.stderr).trim());
+                continue;
+            }
+            println!("{row}");
+            let cols: Vec<&str> = row.split('|').map(str::trim).collect();
+            if let (Ok(dofs), Ok(per_it)) = (cols[4].parse::<f64>(), cols[7].parse::<f64>()) {
+                fit.push((dofs.ln(), per_it.ln()));
+            }
+        }
+    }
+    if fit.len() >= 2 {
+        let n = fit.len() as f64;
+        let (sx, sy) = fit.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+        let (mx, my) = (sx / n, sy / n);
+        let (num, den) = fit
+            .iter()
+            .fold((0.0, 0.0), |(a, b), (x, y)| (a + (x - mx) * (y - my), b + (x - mx).powi(2)));
+        println!("\nseconds per Newton iteration ~ DOFs^{:.2} (least squares over all rows)", num / den);
+    }
+    Ok(())
+}
+
+/// One case, printed as a table row.
+fn run_case(name: &str, n: usize) -> anyhow::Result<()> {
+    let path = format!("{}/patterns/{name}.knit", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path)?;
+    let text: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("width:") {
+                format!("width: {n}")
+            } else if l.starts_with("height:") {
+                format!("height: {n}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let parsed = parse_str(&text, &path)?;
+    let fabric = compile(&parsed.pattern, &CompileOptions::default())?;
+    let nodes = fabric.nodes.len();
+    let opts = RelaxOptions::default();
+    let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
+    let dofs = sim.q.len();
+    let t0 = Instant::now();
+    let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
+    let secs = t0.elapsed().as_secs_f64();
+    println!(
+        "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} |",
+        rep.newton_iterations,
+        secs / rep.newton_iterations.max(1) as f64,
+        peak_mib(),
+        rep.residual,
+        if rep.converged { "" } else { " (not converged)" }
+    );
+    Ok(())
+}
+
+/// Peak resident set size of this process (Linux `VmHWM`), MiB; NaN elsewhere.
+fn peak_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1).and_then(|v| v.parse::<f64>().ok()))
+        })
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}

@@ -1,0 +1,114 @@
+//! Every shipped pattern, loose and tight, relaxes (issue 3, acceptance 5).
+//!
+//! Each pattern is shrunk to the smallest width and height of at least 8
+//! that its repeats allow (full-size runs are the benchmark's job), then
+//! relaxed with the default options. Checked against the compiled start:
+//! the static residual ends below the default tolerance, every coordinate
+//! is finite, the potential energy went down, and every stitch contact is
+//! still a contact: its two yarn points share one node whose position is
+//! finite and whose `u` stays strictly inside both yarns (no unravelling).
+
+use knitsim::pattern::parse_str;
+use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
+use knitsim::solver::linear::LinearSolver;
+use knitsim::solver::newton::Problem;
+use knitsim::topology::{compile, CompileOptions, Fabric};
+use std::path::Path;
+
+/// The pattern text with width, height and looseness replaced.
+fn variant(text: &str, w: usize, h: usize, looseness: &str) -> String {
+    let mut out = Vec::new();
+    for line in text.lines() {
+        if line.starts_with("looseness:") {
+            continue;
+        }
+        if line.starts_with("width:") {
+            out.push(format!("width: {w}"));
+            out.push(format!("looseness: {looseness}"));
+        } else if line.starts_with("height:") {
+            out.push(format!("height: {h}"));
+        } else {
+            out.push(line.to_string());
+        }
+    }
+    out.join("\n") + "\n"
+}
+
+/// The smallest variant with width and height >= 8 that compiles.
+fn small_fabric(path: &Path, looseness: &str) -> Fabric {
+    let text = std::fs::read_to_string(path).unwrap();
+    for w in 8..=40 {
+        for h in 8..=40 {
+            let Ok(parsed) = parse_str(&variant(&text, w, h, looseness), &path.display().to_string()) else {
+                continue;
+            };
+            if let Ok(f) = compile(&parsed.pattern, &CompileOptions::default()) {
+                return f;
+            }
+        }
+    }
+    panic!("{}: no size between 8 and 40 compiles", path.display());
+}
+
+fn potential(sim: &Simulation) -> f64 {
+    sim.problem(None).unwrap().energy(&sim.q)
+}
+
+fn check_contacts(f: &Fabric, name: &str) {
+    for (k, c) in f.contacts.iter().enumerate() {
+        for p in [c.front, c.back] {
+            let y = &f.yarns[p.yarn];
+            let pt = &y.points[p.point];
+            assert_eq!(pt.node, c.node, "{name}: contact {k} lost its node");
+            let (u_min, u_max) = (y.points[0].u, y.points[y.points.len() - 1].u);
+            assert!(
+                pt.u > u_min && pt.u < u_max,
+                "{name}: contact {k} slid off yarn {} (u {} not in ({u_min}, {u_max}))",
+                p.yarn,
+                pt.u
+            );
+        }
+        assert!(f.nodes[c.node].x.iter().all(|v| v.is_finite()), "{name}: contact {k} not finite");
+    }
+}
+
+#[test]
+fn every_shipped_pattern_relaxes_loose_and_tight() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "knit"))
+        .collect();
+    paths.sort();
+    assert!(paths.len() >= 14, "expected the shipped patterns in {}", dir.display());
+    let opts = RelaxOptions::default();
+    let mut failures = Vec::new();
+    for path in &paths {
+        for looseness in ["loose", "tight"] {
+            let name = format!("{} ({looseness})", path.file_stem().unwrap().to_string_lossy());
+            let fabric = small_fabric(path, looseness);
+            let n_contacts = fabric.contacts.len();
+            let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
+            let e0 = potential(&sim);
+            let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
+            let e1 = potential(&sim);
+            println!(
+                "{name:32} {:6} dofs {:3} steps {:4} its residual {:.2e} energy {e0:.3e} -> {e1:.3e}",
+                sim.q.len(),
+                rep.steps,
+                rep.newton_iterations,
+                rep.residual
+            );
+            assert!(sim.q.iter().all(|v| v.is_finite()), "{name}: NaN in the state");
+            if !(rep.converged && rep.residual <= opts.tol) {
+                failures.push(format!("{name}: residual {:.2e} > tol {:.0e}", rep.residual, opts.tol));
+            }
+            assert!(e1 < e0, "{name}: energy rose from {e0} to {e1}");
+            let out = sim.snapshot();
+            assert_eq!(out.contacts.len(), n_contacts, "{name}: contacts removed");
+            check_contacts(&out, &name);
+        }
+    }
+    assert!(failures.is_empty(), "not relaxed:\n{}", failures.join("\n"));
+}
