@@ -1,6 +1,7 @@
 //! Read-back of the VTK and OBJ writers with an independent reader, meshio
-//! (tests/python/check_mesh.py), on small synthetic fabrics whose point and
-//! cell counts are worked out here from the formats' definitions.
+//! (tests/python/check_mesh.py), on small synthetic fabrics and on every
+//! shipped pattern file, with point and cell counts worked out here from
+//! the formats' definitions.
 //!
 //! python3 with meshio is a test requirement (tests/python-requirements.txt):
 //! without it these tests fail, unless KNITSIM_SKIP_PYTHON=1 says to skip.
@@ -9,6 +10,8 @@ use knitsim::io::{write_obj, write_vtk, ObjOptions, SmoothOptions, TubeOptions, 
 use knitsim::pattern::{Construction, Gauge, Meta, YarnSpec};
 use knitsim::topology::{Contact, ContactKind, Fabric, Node, PointRef, Vec3, Yarn, YarnPoint};
 use std::path::Path;
+
+mod common;
 use std::process::Command;
 
 const MM: f64 = 1e-3;
@@ -239,6 +242,25 @@ fn vtk_with_an_eil_point_reads_back() {
         "{summary}"
     );
     assert_eq!(summary["point_data_histograms"]["yarn_id"]["1"], 3);
+}
+
+#[test]
+fn every_shipped_pattern_reads_back() {
+    // Both files of each compiled pattern (the starting geometry that
+    // `knitsim export PATTERN --vtk --obj` writes); coarse tubes keep the
+    // OBJ files small, the counting is the same at any resolution.
+    for (name, p) in common::shipped_patterns() {
+        let f = knitsim::topology::compile(&p, &knitsim::topology::CompileOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let Some(summary) = check_vtk(&f, &format!("{name}.vtk")) else {
+            return;
+        };
+        // Every contact node is listed once per yarn through it: twice.
+        let eol_points = summary["point_data_histograms"]["node_kind"]["1"].as_u64().unwrap_or(0);
+        assert_eq!(eol_points as usize, 2 * f.contacts.len(), "{name}: {summary}");
+        check_obj(&f, 6, 2);
+        println!("{name}: VTK and OBJ read back");
+    }
 }
 
 #[test]

@@ -1,13 +1,44 @@
 //! The starting geometry keeps non-contact segments a yarn diameter apart on
-//! every shipped structure, flat and round, and the check itself can fail.
+//! every shipped pattern file and every structure, flat and round, contact
+//! nodes are shared by their two yarns, and the check itself can fail.
 
 mod common;
 
-use common::{pattern, structures};
+use common::{pattern, shipped_patterns, structures};
 use knitsim::pattern::Construction;
 use knitsim::pattern::Meta;
 use knitsim::topology::fabric::{Contact, ContactKind, Node, PointRef, Vec3, Yarn, YarnPoint};
 use knitsim::topology::{clearance, compile, ClearanceOptions, CompileOptions, Fabric};
+
+#[test]
+fn every_shipped_pattern_clears_and_shares_its_contact_nodes() {
+    for (name, p) in shipped_patterns() {
+        let f = compile(&p, &CompileOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        // A contact is one node on both yarns: both points name it, so the
+        // two centre lines coincide there exactly.
+        assert!(!f.contacts.is_empty(), "{name}: no contacts");
+        for c in &f.contacts {
+            let front = f.yarns[c.front.yarn].points[c.front.point].node;
+            let back = f.yarns[c.back.yarn].points[c.back.point].node;
+            assert_eq!((front, back), (c.node, c.node), "{name}: contact {c:?}");
+            assert_ne!(c.front, c.back, "{name}: a contact needs two yarn points");
+        }
+        let r = clearance(&f, &ClearanceOptions::default());
+        let d = 2.0 * p.meta.yarns.iter().map(|y| y.radius).fold(0.0, f64::max);
+        println!(
+            "{name:20}: min {:.3} d over {} pairs",
+            r.min_distance / d,
+            r.pairs_checked
+        );
+        assert!(
+            r.ok(),
+            "{name}: {} violations, worst {:?}",
+            r.violation_count,
+            r.violations.first()
+        );
+        assert!(r.pairs_checked > 0, "{name}: nothing was checked");
+    }
+}
 
 #[test]
 fn every_structure_clears() {

@@ -1,5 +1,12 @@
-//! Hand-counted contacts, loops, floats and yarn pieces for small patches.
-//! Charts are drawn top row first (see `topology::sample`).
+//! Hand-counted contacts, loops, floats and yarn pieces: for the shipped
+//! pattern files behind `knitsim compile PATTERN --stats` (stockinette,
+//! 1x1 rib, linen stitch, jacquard), and for small inline patches. Every
+//! expected number is derived in the comments from the chart and the
+//! contact rules (`topology` module docs, MODEL.md sec. 7), not from the
+//! program's output. Inline charts are drawn top row first (see
+//! `topology::sample`).
+
+mod common;
 
 use knitsim::pattern::{Construction, Pattern};
 use knitsim::topology::sample::chart_pattern;
@@ -10,6 +17,122 @@ fn build(chart: &[&str], colours: Option<&[&str]>, c: Construction) -> (Pattern,
     let f = compile(&p, &CompileOptions::default()).expect("compile");
     let s = stats(&p, &f);
     (p, f, s)
+}
+
+/// What `knitsim compile PATTERN --stats` prints for a shipped file.
+fn shipped_stats(stem: &str) -> (Fabric, Stats) {
+    let p = common::shipped(stem);
+    let f = compile(&p, &CompileOptions::default()).expect(stem);
+    let s = stats(&p, &f);
+    (f, s)
+}
+
+#[test]
+fn shipped_stockinette() {
+    // stockinette.knit: 16 sts x 16 rows, every cell a knit.
+    // 16 x 16 = 256 knit loops, plus a 16-loop cast-on: 272 loops.
+    // Every knit loop is pulled through exactly one parent (the loop below),
+    // 2 stitch contacts (one per leg) of 2 nodes: 256 x 4 = 1024 nodes.
+    // No slips, no colours: no floats, no float nodes. One yarn turning at
+    // each edge: 1 piece.
+    let (_, s) = shipped_stats("stockinette");
+    assert_eq!(s.yarns, 1);
+    assert_eq!((s.knit, s.purl, s.slip_front, s.slip_back, s.tuck), (256, 0, 0, 0, 0));
+    assert_eq!((s.loops, s.cast_on_loops), (272, 16));
+    assert_eq!(s.stitch_contacts, 1024);
+    assert_eq!(s.float_contacts + s.tuck_contacts + s.layer_contacts, 0);
+    assert_eq!(s.contact_nodes, 1024);
+    assert_eq!(s.floats, 0);
+    assert_eq!(s.longest_float_per_row, vec![0; 16]);
+}
+
+#[test]
+fn shipped_rib_1x1() {
+    // rib-1x1.knit: chart `[. -] .` at width 17: 8 repeats of knit, purl
+    // and a closing knit, so each row has 9 knit and 8 purl columns.
+    // 16 rows: 144 knit, 128 purl; loops 272 + 17 cast-on = 289.
+    // Each of the 272 chart loops has one parent: 272 x 4 = 1088 stitch
+    // nodes. A knit child is the front point of its contacts, a purl child
+    // the back point, and (one yarn) the child is worked after its parent:
+    // 144 x 4 = 576 contacts with front.u > back.u, 128 x 4 = 512 with <.
+    let (f, s) = shipped_stats("rib-1x1");
+    assert_eq!(s.yarns, 1);
+    assert_eq!((s.knit, s.purl), (144, 128));
+    assert_eq!((s.loops, s.cast_on_loops), (289, 17));
+    assert_eq!(s.stitch_contacts, 1088);
+    assert_eq!(s.contact_nodes, 1088);
+    assert_eq!(s.floats, 0);
+    let u = |r: knitsim::topology::PointRef| f.yarns[r.yarn].points[r.point].u;
+    let knit_like = f.contacts.iter().filter(|c| u(c.front) > u(c.back)).count();
+    assert_eq!((knit_like, f.contacts.len() - knit_like), (576, 512));
+}
+
+#[test]
+fn shipped_linen_stitch() {
+    // linen-stitch.knit: 20 sts x 16 rows. Row 1 `. [. v] .`: edge knit,
+    // 9 x (knit, slip), edge knit -> 9 slips (cols 2, 4, .., 18), 11 knits.
+    // Row 2 `. [v .] .`: 9 slips (cols 1, 3, .., 17), 11 knits.
+    // 16 rows: 176 knit, 144 slips with the float on the RS (wyif on RS
+    // rows, wyib on WS rows, both RS floats in fabric view).
+    // Loops: 176 + 20 cast-on = 196. Each knit loop has one parent (the
+    // loop below, or the one held through the slip): 176 x 4 = 704 stitch
+    // nodes. Each slip's float crosses the 2 legs of the held loop: 288
+    // float nodes; 992 contact nodes in all.
+    // Floats: every slip is a single-stitch run between knits: 9 per row,
+    // 144 floats, longest 1 in every row.
+    let (_, s) = shipped_stats("linen-stitch");
+    assert_eq!(s.yarns, 1);
+    assert_eq!((s.knit, s.slip_front, s.slip_back), (176, 144, 0));
+    assert_eq!((s.loops, s.cast_on_loops), (196, 20));
+    assert_eq!(s.stitch_contacts, 704);
+    assert_eq!(s.float_contacts, 288);
+    assert_eq!(s.contact_nodes, 992);
+    assert_eq!(s.floats, 144);
+    assert_eq!(s.longest_float_per_row, vec![1; 16]);
+}
+
+#[test]
+fn shipped_jacquard() {
+    // jacquard.knit: 18 sts x 12 rows, all knit; the 6 x 6 chart (no
+    // brackets, so the whole row repeats 3 times) has CC (`x`) at, per
+    // repeat and bottom row first:
+    //   row 1: col 2         row 2: cols 1-3     row 3: cols 0-4
+    //   row 4: cols 1-3      row 5: col 2        row 6: none (MC only)
+    // and rows 7-12 repeat rows 1-6.
+    // Stitches: 18 x 12 = 216 knit; loops 216 + 18 cast-on = 234; each
+    // has one parent: 216 x 4 = 864 stitch nodes.
+    // Float nodes: in a two-colour row each yarn travels the whole row
+    // (it turns at the edges), so each of the 18 columns has one loop and
+    // the other yarn's strand behind it crossing its 2 legs: 36 nodes per
+    // two-colour row; rows 1-5 and 7-11: 10 x 36 = 360.
+    // Floats (per yarn and row, maximal no-loop runs, edge runs included):
+    //   row 1: MC {2},{8},{14}; CC 0-1, 3-7, 9-13, 15-17   -> 7, longest 5
+    //   row 2: MC 1-3, 7-9, 13-15; CC 0, 4-6, 10-12, 16-17 -> 7, longest 3
+    //   row 3: MC 0-4, 6-10, 12-16; CC {5},{11},{17}       -> 6, longest 5
+    //   rows 4, 5 as rows 2, 1; row 6 none. Per 6 rows 34; 68 in all.
+    // Yarn pieces: MC works every row and turns at each edge: 1 piece. CC
+    // ends RS row 5 at the left edge, skips row 6, and RS row 7 starts at
+    // the right edge: cut and rejoined, 2 pieces; 3 in all.
+    let (f, s) = shipped_stats("jacquard");
+    assert_eq!(s.yarns, 3);
+    assert_eq!((s.knit, s.purl), (216, 0));
+    assert_eq!((s.loops, s.cast_on_loops), (234, 18));
+    assert_eq!(s.stitch_contacts, 864);
+    assert_eq!(s.float_contacts, 360);
+    assert_eq!(s.contact_nodes, 1224);
+    assert_eq!(s.floats, 68);
+    assert_eq!(
+        s.longest_float_per_row,
+        [[5, 3, 5, 3, 5, 0], [5, 3, 5, 3, 5, 0]].concat()
+    );
+    // A strand is the back point and never the loop's own colour.
+    for c in f
+        .contacts
+        .iter()
+        .filter(|c| c.kind == knitsim::topology::ContactKind::Float)
+    {
+        assert_ne!(f.yarns[c.front.yarn].spec, f.yarns[c.back.yarn].spec);
+    }
 }
 
 #[test]

@@ -37,19 +37,46 @@ pub(crate) struct Canvas {
 /// Lambert plus ambient, `ambient + (1 - ambient) max(0, n . light)`, times
 /// a silhouette darkening `1 - edge (1 - n_z)` that outlines every yarn
 /// where it dips away from the viewer, so same-coloured crossings stay
-/// readable whatever the light direction.
+/// readable whatever the light direction. Then a depth cue: the surface is
+/// mixed with the background in proportion `fade (near_z - z) / (near_z -
+/// far_z)`, so what lies behind the front layer (WS floats seen through
+/// the open starting lattice, heads behind the legs) recedes, as it does
+/// in a real fabric where it is hidden or in shadow.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Shading {
     pub ambient: f64,
     /// Unit vector towards the light.
     pub light: Vec3,
     pub edge: f64,
+    /// Largest share of background at `far_z`, in `[0, 1]` (0 = no cue).
+    pub fade: f64,
+    pub near_z: f64,
+    pub far_z: f64,
+    /// Linear RGB.
+    pub background: [f64; 3],
 }
 
 impl Shading {
     fn factor(&self, normal: &Vec3) -> f64 {
         let lambert = self.ambient + (1.0 - self.ambient) * normal.dot(&self.light).max(0.0);
         lambert * (1.0 - self.edge * (1.0 - normal.z.max(0.0)))
+    }
+
+    /// Shaded linear colour of a surface point at height `z`.
+    fn colour(&self, base: [f64; 3], normal: &Vec3, z: f64) -> [f64; 3] {
+        let light = self.factor(normal);
+        let span = self.near_z - self.far_z;
+        let depth = if span > 0.0 {
+            ((self.near_z - z) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let t = self.fade * depth;
+        let mut out = [0.0; 3];
+        for ((o, c), bg) in out.iter_mut().zip(base).zip(self.background) {
+            *o = (1.0 - t) * c * light + t * bg;
+        }
+        out
     }
 }
 
@@ -90,17 +117,22 @@ impl Canvas {
             self.height,
         );
         let capsule = Capsule::new(a, b, radius);
+        // Nothing of the capsule is above this: pixels already nearer skip
+        // the ray test.
+        let capsule_top = a.z.max(b.z) + radius;
         for row in row_range {
             for col in col_range.clone() {
+                let i = row * self.width + col;
+                if self.depth[i] >= capsule_top {
+                    continue;
+                }
                 let (x, y) = self.pixel_centre(col, row);
                 let Some((z, normal)) = capsule.top(x, y) else {
                     continue;
                 };
-                let i = row * self.width + col;
                 if z > self.depth[i] {
                     self.depth[i] = z;
-                    let light = shading.factor(&normal);
-                    self.color[i] = base.map(|c| c * light);
+                    self.color[i] = shading.colour(base, &normal, z);
                 }
             }
         }
@@ -133,6 +165,12 @@ impl Capsule {
     /// Highest surface point on the vertical line through `(x, y)`: its
     /// height and unit outward normal.
     fn top(&self, x: f64, y: f64) -> Option<(f64, Vec3)> {
+        // Seen from +z the capsule covers exactly the points within `radius`
+        // of the projected segment: one cheap test rejects most pixels of
+        // the bounding box of a slanted span.
+        if self.projected_distance_squared(x, y) > self.radius * self.radius {
+            return None;
+        }
         let mut best = sphere_top(self.a, self.radius, x, y);
         let mut consider = |hit: Option<(f64, Vec3)>| {
             if let Some(h) = hit {
@@ -144,6 +182,19 @@ impl Capsule {
         consider(sphere_top(self.b, self.radius, x, y));
         consider(self.lateral_top(x, y));
         best
+    }
+
+    fn projected_distance_squared(&self, x: f64, y: f64) -> f64 {
+        let (ex, ey) = (x - self.a.x, y - self.a.y);
+        let (dx, dy) = (self.b.x - self.a.x, self.b.y - self.a.y);
+        let len2 = dx * dx + dy * dy;
+        let s = if len2 > 0.0 {
+            ((ex * dx + ey * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (px, py) = (ex - s * dx, ey - s * dy);
+        px * px + py * py
     }
 
     fn lateral_top(&self, x: f64, y: f64) -> Option<(f64, Vec3)> {
@@ -227,6 +278,10 @@ mod tests {
             ambient: 1.0,
             light: Vec3::z(),
             edge: 0.0,
+            fade: 0.0,
+            near_z: 0.0,
+            far_z: 0.0,
+            background: [1.0; 3],
         };
         let mut canvas = Canvas::new(10, 10, 0.0, 10.0, 1.0, [1.0; 3]);
         // Red below (z = 0), green above (z = 1), crossing at the centre.

@@ -36,6 +36,40 @@ pub fn pattern(t: &[&str], c: Option<&[&str]>, cons: Construction, w: usize, h: 
     chart_pattern(&st, cl.as_deref(), cons).expect("chart")
 }
 
+/// Every `patterns/*.knit` file the project ships, sorted by name, with its
+/// parsed pattern. Read from the directory, so a new pattern is covered by
+/// every "each shipped pattern" test without editing the tests.
+pub fn shipped_patterns() -> Vec<(String, Pattern)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(&dir)
+        .expect("patterns/ is readable")
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "knit"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 14, "expected the shipped patterns in {}", dir.display());
+    files
+        .into_iter()
+        .map(|path| {
+            let name = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .expect("utf-8 name")
+                .to_string();
+            let parsed = knitsim::pattern::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+            (name, parsed.pattern)
+        })
+        .collect()
+}
+
+/// One shipped pattern by file stem (`"rib-1x1"` for `patterns/rib-1x1.knit`).
+pub fn shipped(stem: &str) -> Pattern {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("patterns/{stem}.knit"));
+    knitsim::pattern::load(&path)
+        .unwrap_or_else(|e| panic!("{stem}: {e}"))
+        .pattern
+}
+
 // Hand-made fabrics for the physics tests.
 
 pub fn meta(radius: f64) -> Meta {

@@ -29,10 +29,13 @@ fn horizontal_yarn() -> Fabric {
     f
 }
 
+const PAPER: [u8; 3] = [244, 242, 236];
+
 fn options(ppm: f64) -> PngOptions {
     PngOptions {
         scale: PngScale::PixelsPerMm(ppm),
         margin_px: 5,
+        background: Background::Fixed(PAPER),
         ..PngOptions::default()
     }
 }
@@ -74,10 +77,10 @@ fn yarn_pixels_have_the_yarn_colour_and_the_rest_is_background() {
     for (a, b) in chroma(on_yarn).iter().zip(yarn_colour) {
         assert!((a - b).abs() < 0.02, "pixel {on_yarn:?} is not yarn coloured");
     }
-    assert!(on_yarn != opts.background);
+    assert!(on_yarn != PAPER);
     // Margins and the corner are pure background.
     for (x, y) in [(0, 0), (59, 19), (30, 1), (30, 18), (1, 10)] {
-        assert_eq!(img.get_pixel(x, y).0, opts.background, "at ({x}, {y})");
+        assert_eq!(img.get_pixel(x, y).0, PAPER, "at ({x}, {y})");
     }
 }
 
@@ -148,4 +151,67 @@ fn bad_requests_are_errors() {
     ));
     let empty = fabric_with(&[([0, 0, 0], MM)]);
     assert_eq!(render_preview(&empty, &options(10.0)), Err(ExportError::NothingToDraw));
+}
+
+#[test]
+fn tiles_leave_no_seams() {
+    // A straight horizontal yarn is shaded the same all along its axis, so
+    // every pixel of a row across its middle must be equal, including
+    // across the tile boundaries at multiples of 32 columns.
+    let img = render_preview(&horizontal_yarn(), &options(20.0)).unwrap();
+    assert!(img.width() > 3 * 32);
+    for row in [img.height() / 2 - 5, img.height() / 2, img.height() / 2 + 7] {
+        let first = img.get_pixel(20, row);
+        for col in 20..img.width() - 20 {
+            assert_eq!(img.get_pixel(col, row), first, "row {row}, column {col}");
+        }
+    }
+}
+
+#[test]
+fn deeper_yarn_fades_towards_the_background() {
+    // Two parallel yarns of one colour, one 2 mm behind the other: with the
+    // depth cue the back one is nearer the background colour.
+    let mut f = fabric_with(&[([200, 30, 30], 0.4 * MM)]);
+    push_yarn(&mut f, 0, &[Vec3::new(0.0, 0.0, 0.0), Vec3::new(4.0 * MM, 0.0, 0.0)]);
+    push_yarn(
+        &mut f,
+        0,
+        &[
+            Vec3::new(0.0, 2.0 * MM, -2.0 * MM),
+            Vec3::new(4.0 * MM, 2.0 * MM, -2.0 * MM),
+        ],
+    );
+    let distance_to_paper = |p: [u8; 3]| -> i32 {
+        p.iter()
+            .zip(PAPER)
+            .map(|(&a, b)| (i32::from(a) - i32::from(b)).abs())
+            .sum()
+    };
+    let faded = render_preview(&f, &options(10.0)).unwrap();
+    let flat = render_preview(
+        &f,
+        &PngOptions {
+            depth_fade: 0.0,
+            ..options(10.0)
+        },
+    )
+    .unwrap();
+    // Yarn centres: y = 0 mm at row 5 + 24, y = 2 mm at row 5 + 4.
+    let (col, front_row, back_row) = (25, 29, 9);
+    // The front yarn's crest is the nearest surface: (almost) no fade.
+    let front_change =
+        distance_to_paper(flat.get_pixel(col, front_row).0) - distance_to_paper(faded.get_pixel(col, front_row).0);
+    assert!(front_change.abs() <= 6, "front changed by {front_change}");
+    // The back crest is 2 of the 2.8 mm depth range deep: 36 % background.
+    let (back_faded, back_flat) = (faded.get_pixel(col, back_row).0, flat.get_pixel(col, back_row).0);
+    assert!(
+        distance_to_paper(back_faded) * 4 < distance_to_paper(back_flat) * 3,
+        "{back_faded:?} vs {back_flat:?}"
+    );
+    assert_eq!(
+        flat.get_pixel(col, front_row),
+        flat.get_pixel(col, back_row),
+        "no cue: same shade"
+    );
 }
