@@ -46,7 +46,7 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
         /// Linear solver for the Newton steps. `auto`: the GPU for problems of
-        /// 100K unknowns or more when a hardware adapter exists, else cpu-direct.
+        /// 50K unknowns or more when a hardware adapter exists, else cpu-direct.
         #[arg(long, value_enum, default_value_t = SolverChoice::Auto)]
         solver: SolverChoice,
         /// A scene file (JSON) overriding the embedded default parameters.
