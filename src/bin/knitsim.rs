@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use knitsim::app::{load_fabric, run_relax, RelaxJob};
 use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
 use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions, SimParams};
-use knitsim::solver::linear::LinearSolver;
+use knitsim::solver::linear::{select, AutoParams};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -45,7 +45,8 @@ enum Command {
         input: PathBuf,
         #[arg(short, long)]
         output: PathBuf,
-        /// Linear solver for the Newton steps.
+        /// Linear solver for the Newton steps. `auto`: the GPU for problems of
+        /// 50K unknowns or more when a hardware adapter exists, else cpu-direct.
         #[arg(long, value_enum, default_value_t = SolverChoice::Auto)]
         solver: SolverChoice,
         /// A scene file (JSON) overriding the embedded default parameters.
@@ -72,6 +73,19 @@ enum SolverChoice {
     Auto,
     CpuDirect,
     CpuCg,
+    /// f32 PCG on the GPU (wgpu); an error if no adapter is found.
+    Gpu,
+}
+
+impl From<SolverChoice> for knitsim::solver::linear::SolverChoice {
+    fn from(c: SolverChoice) -> Self {
+        match c {
+            SolverChoice::Auto => Self::Auto,
+            SolverChoice::CpuDirect => Self::CpuDirect,
+            SolverChoice::CpuCg => Self::CpuCg,
+            SolverChoice::Gpu => Self::Gpu,
+        }
+    }
 }
 
 fn main() {
@@ -176,10 +190,10 @@ fn relax(
             ..params.contact.unwrap_or_default()
         });
     }
-    let solver = match solver {
-        SolverChoice::Auto | SolverChoice::CpuDirect => LinearSolver::direct(),
-        SolverChoice::CpuCg => LinearSolver::cg(),
-    };
+    let n_dofs = knitsim::sim::dofs::DofLayout::new(&fabric).len();
+    let selection = select(solver.into(), n_dofs, &AutoParams::default())?;
+    eprintln!("{}", selection.note);
+    let solver = selection.solver;
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)).context("installing the Ctrl-C handler")?;

@@ -36,6 +36,7 @@ use super::context::{GpuContext, GpuError};
 use super::kernels::block_jacobi::{inverse_offsets, BlockBuffers};
 use super::kernels::cg_scalars::{CgScalars, Status};
 use super::kernels::spmv::CsrBuffers;
+use super::kernels::Kernels;
 use super::plan::{Plan, Vectors};
 use crate::solver::linear::{BlockJacobi, CgResult};
 use crate::solver::sparse::CsrMatrix;
@@ -90,6 +91,7 @@ pub struct GpuPcg {
     row_ptr: Vec<usize>,
     col_idx: Vec<u32>,
     block_starts: Vec<usize>,
+    kernels: Kernels,
     csr: CsrBuffers,
     blocks: BlockBuffers,
     vectors: Vectors,
@@ -100,19 +102,45 @@ impl GpuPcg {
     /// Uploads the pattern and values of `a` and the block-Jacobi inverses
     /// for blocks `block_starts` (0 = s_0 < ... < s_m = n, sizes 1..=4).
     pub fn new(ctx: &GpuContext, a: &CsrMatrix, block_starts: &[usize]) -> Result<Self, GpuError> {
-        // Allocation failures would otherwise reach wgpu's uncaptured-error
-        // handler, which panics; a large pattern is user input.
-        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let built = Self::allocate(ctx, a, block_starts);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::OutOfMemory(e.to_string()));
-        }
-        let mut solver = built?;
+        let kernels = Kernels::new(&ctx.device);
+        let mut solver = Self::allocate_checked(ctx, kernels, a, block_starts)?;
         solver.update_values(a)?;
         Ok(solver)
     }
 
-    fn allocate(ctx: &GpuContext, a: &CsrMatrix, block_starts: &[usize]) -> Result<Self, GpuError> {
+    /// True when `a` has the uploaded sparsity pattern and `block_starts`
+    /// the uploaded block layout, i.e. [`GpuPcg::update_values`] suffices.
+    pub fn matches(&self, a: &CsrMatrix, block_starts: &[usize]) -> bool {
+        a.row_ptr == self.row_ptr && a.col_idx == self.col_idx && block_starts == self.block_starts
+    }
+
+    /// Rebinds the solver to a new pattern or block layout: new buffers and
+    /// bind groups, the compiled pipelines kept. On error the solver keeps
+    /// its previous pattern.
+    pub fn rebind(&mut self, a: &CsrMatrix, block_starts: &[usize]) -> Result<(), GpuError> {
+        let mut fresh = Self::allocate_checked(&self.ctx, self.kernels.clone(), a, block_starts)?;
+        fresh.update_values(a)?;
+        *self = fresh;
+        Ok(())
+    }
+
+    fn allocate_checked(
+        ctx: &GpuContext,
+        kernels: Kernels,
+        a: &CsrMatrix,
+        block_starts: &[usize],
+    ) -> Result<Self, GpuError> {
+        // Allocation failures would otherwise reach wgpu's uncaptured-error
+        // handler, which panics; a large pattern is user input.
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let built = Self::allocate(ctx, kernels, a, block_starts);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::OutOfMemory(e.to_string()));
+        }
+        built
+    }
+
+    fn allocate(ctx: &GpuContext, kernels: Kernels, a: &CsrMatrix, block_starts: &[usize]) -> Result<Self, GpuError> {
         let offsets = inverse_offsets(block_starts, a.n)?;
         // The shaders index with u32, so offsets past 2^32 entries are refused.
         let too_large = |name| GpuError::BufferTooLarge {
@@ -134,12 +162,13 @@ impl GpuPcg {
         };
         let blocks = BlockBuffers::new(ctx, block_starts, &offsets)?;
         let vectors = Vectors::new(ctx, a.n)?;
-        let plan = Plan::new(ctx, &csr, &blocks, &vectors);
+        let plan = Plan::new(ctx, &kernels, &csr, &blocks, &vectors);
         Ok(GpuPcg {
             ctx: ctx.clone(),
             row_ptr: a.row_ptr.clone(),
             col_idx: a.col_idx.clone(),
             block_starts: block_starts.to_vec(),
+            kernels,
             csr,
             blocks,
             vectors,

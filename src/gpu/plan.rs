@@ -73,23 +73,22 @@ pub(crate) struct Plan {
 }
 
 impl Plan {
-    pub fn new(ctx: &GpuContext, csr: &CsrBuffers, blocks: &BlockBuffers, v: &Vectors) -> Self {
-        let k = Kernels::new(&ctx.device);
+    pub fn new(ctx: &GpuContext, k: &Kernels, csr: &CsrBuffers, blocks: &BlockBuffers, v: &Vectors) -> Self {
         let n = csr.n;
-        let dot = |a, b, out_slot| DotDispatch::new(ctx, &k, n, (a, b), &v.partials, &v.scalars, out_slot);
+        let dot = |a, b, out_slot| DotDispatch::new(ctx, k, n, (a, b), &v.partials, &v.scalars, out_slot);
         let update =
-            |kind, coef, slot, x, y| vector_ops::dispatch(ctx, &k, kind, n, Factor { coef, slot }, &v.scalars, (x, y));
+            |kind, coef, slot, x, y| vector_ops::dispatch(ctx, k, kind, n, Factor { coef, slot }, &v.scalars, (x, y));
         Plan {
-            spmv_x: spmv::dispatch(ctx, &k, csr, &v.x, &v.q),
-            spmv_d: spmv::dispatch(ctx, &k, csr, &v.d, &v.q),
+            spmv_x: spmv::dispatch(ctx, k, csr, &v.x, &v.q),
+            spmv_d: spmv::dispatch(ctx, k, csr, &v.d, &v.q),
             initial_residual: update(Update::Axpy, -1.0, None, &v.q, &v.r),
-            precondition: block_jacobi::dispatch(ctx, &k, blocks, &v.r, &v.z),
+            precondition: block_jacobi::dispatch(ctx, k, blocks, &v.r, &v.z),
             dot_rz: dot(&v.r, &v.z, slot::RZ),
             dot_bb: dot(&v.b, &v.b, slot::BB),
             dot_dad: dot(&v.d, &v.q, slot::DAD),
             dot_rz_new: dot(&v.r, &v.z, slot::RZ_NEW),
             dot_rr: dot(&v.r, &v.r, slot::RR),
-            scalars: CgScalarDispatches::new(&ctx.device, &k, &v.scalars),
+            scalars: CgScalarDispatches::new(&ctx.device, k, &v.scalars),
             update_x: update(Update::Axpy, 1.0, Some(slot::ALPHA), &v.d, &v.x),
             update_r: update(Update::Axpy, -1.0, Some(slot::ALPHA), &v.q, &v.r),
             update_d: update(Update::Xpay, 1.0, Some(slot::BETA), &v.z, &v.d),

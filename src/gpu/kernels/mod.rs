@@ -13,7 +13,11 @@ pub(crate) mod dot;
 pub(crate) mod spmv;
 pub(crate) mod vector_ops;
 
-/// The pipelines of all kernels, compiled once per solver.
+/// The pipelines of all kernels. Compiled once per [`crate::gpu::GpuPcg`]
+/// and kept when the solver is rebound to a new pattern: shader compilation
+/// is the slowest part of setup on a software adapter, and the pipelines do
+/// not depend on buffer sizes. Cloning copies reference-counted handles.
+#[derive(Clone)]
 pub(crate) struct Kernels {
     pub spmv: wgpu::ComputePipeline,
     pub block_jacobi: wgpu::ComputePipeline,

@@ -4,6 +4,9 @@
 //!   the scalable CPU path and the reference for the GPU kernels.
 //! - [`direct`]: sparse Cholesky (faer) with the symbolic analysis reused
 //!   while the pattern is unchanged; the robust default on the CPU.
+//! - `gpu` (feature `gpu`): [`crate::gpu::GpuPcg`] as an inexact Newton
+//!   solve, with the device buffers kept while the pattern is unchanged.
+//! - [`choice`]: the `--solver auto|cpu-direct|cpu-cg|gpu` rule.
 //!
 //! [`LinearSolver`] is an enum rather than a trait object so a configuration
 //! (CLI flag, scene file) maps onto it directly and each variant keeps its own
@@ -12,10 +15,16 @@
 //! layout, which the solver does not own.
 
 pub mod cg;
+pub mod choice;
 pub mod direct;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 
 pub use cg::{pcg, BlockJacobi, CgParams, CgResult};
+pub use choice::{select, AutoParams, SelectError, Selection, SolverChoice};
 pub use direct::{DirectError, DirectParams, DirectSolver, FactorKind};
+#[cfg(feature = "gpu")]
+pub use gpu::{GpuLinearParams, GpuSolver};
 
 use crate::solver::sparse::CsrMatrix;
 
@@ -23,6 +32,10 @@ use crate::solver::sparse::CsrMatrix;
 pub enum LinearSolver {
     Direct(DirectSolver),
     Cg(CgParams),
+    /// f32 block-Jacobi PCG on the GPU (inexact Newton, docs/GPU.md); boxed
+    /// because the device handles dwarf the CPU variants.
+    #[cfg(feature = "gpu")]
+    Gpu(Box<GpuSolver>),
 }
 
 impl LinearSolver {
@@ -38,6 +51,8 @@ impl LinearSolver {
         match self {
             LinearSolver::Direct(_) => "direct",
             LinearSolver::Cg(_) => "cg",
+            #[cfg(feature = "gpu")]
+            LinearSolver::Gpu(_) => "gpu",
         }
     }
 
@@ -87,6 +102,16 @@ impl LinearSolver {
                     factor: None,
                 })
             }
+            #[cfg(feature = "gpu")]
+            LinearSolver::Gpu(gpu) => {
+                let r = gpu.solve(a, b, x, blocks)?;
+                Ok(LinearReport {
+                    iterations: r.iterations,
+                    rel_residual: r.rel_residual,
+                    converged: r.converged,
+                    factor: None,
+                })
+            }
         }
     }
 }
@@ -97,6 +122,9 @@ pub enum LinearError {
     Dimension { n: usize, b: usize, x: usize },
     #[error(transparent)]
     Direct(#[from] DirectError),
+    #[cfg(feature = "gpu")]
+    #[error(transparent)]
+    Gpu(#[from] crate::gpu::GpuError),
 }
 
 /// What one linear solve did.
