@@ -31,7 +31,9 @@ fn main() -> anyhow::Result<()> {
         .split(',')
         .map(str::parse)
         .collect::<Result<_, _>>()?;
-    println!("| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual |");
+    println!(
+        "| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|");
     let mut fit: Vec<(f64, f64)> = Vec::new();
     for name in PATTERNS {
@@ -40,7 +42,10 @@ fn main() -> anyhow::Result<()> {
             let row = String::from_utf8_lossy(&out.stdout);
             let row = row.trim();
             if !out.status.success() || row.is_empty() {
-                println!("| {name} | {n}x{n} | failed: {} |", String::from_utf8_lossy(&out.stderr).trim());
+                println!(
+                    "| {name} | {n}x{n} | failed: {} |",
+                    String::from_utf8_lossy(&out.stderr).trim()
+                );
                 continue;
             }
             println!("{row}");
@@ -54,10 +59,13 @@ fn main() -> anyhow::Result<()> {
         let n = fit.len() as f64;
         let (sx, sy) = fit.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
         let (mx, my) = (sx / n, sy / n);
-        let (num, den) = fit
-            .iter()
-            .fold((0.0, 0.0), |(a, b), (x, y)| (a + (x - mx) * (y - my), b + (x - mx).powi(2)));
-        println!("\nseconds per Newton iteration ~ DOFs^{:.2} (least squares over all rows)", num / den);
+        let (num, den) = fit.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+            (a + (x - mx) * (y - my), b + (x - mx).powi(2))
+        });
+        println!(
+            "\nseconds per Newton iteration ~ DOFs^{:.2} (least squares over all rows)",
+            num / den
+        );
     }
     Ok(())
 }
