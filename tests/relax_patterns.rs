@@ -98,7 +98,7 @@ fn relax_pattern(path: &Path, looseness: &str) -> Result<String, String> {
     let out = sim.snapshot();
     assert_eq!(out.contacts.len(), n_contacts, "{name}: contacts removed");
     check_contacts(&out, &name);
-    if !(e1 < e0) {
+    if e1.is_nan() || e1 >= e0 {
         return Err(format!("{name}: energy rose from {e0} to {e1}"));
     }
     if !(rep.converged && rep.residual <= opts.tol) {

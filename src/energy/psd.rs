@@ -80,7 +80,7 @@ fn is_numerically_psd<const N: usize>(m: &SMatrix<f64, N, N>) -> bool {
         for k in 0..j {
             d -= l[(j, k)] * l[(j, k)];
         }
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return false;
         }
         let d = d.sqrt();

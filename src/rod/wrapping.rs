@@ -149,7 +149,7 @@ impl Wrapping {
         let r2 = sin_part * sin_part + cos_part * cos_part;
         let scale = t1.dot(&t1) * t2.dot(&t2);
         // Also rejects NaN (comparisons with NaN are false).
-        if !(r2.v > 1e-28 * scale.v) {
+        if r2.v.is_nan() || r2.v <= 1e-28 * scale.v {
             return None;
         }
         let c = r2 * scale.recip();
