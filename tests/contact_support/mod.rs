@@ -4,6 +4,9 @@
 //! frames, polyline builders and a runner for pulled single yarns.
 #![allow(dead_code)]
 
+#[path = "../common/mod.rs"]
+mod common;
+
 use knitsim::sim::{ContactModeName, ContactParams, SimParams, Simulation, Terms};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::topology::{Fabric, Node, Vec3, Yarn, YarnPoint};
@@ -132,7 +135,13 @@ pub fn polyline_fabric(pts: &[Vec3], radius: f64) -> Fabric {
             eil: false,
         });
     }
-    let mut f = knitsim_test_meta_fabric(radius);
+    let mut f = Fabric {
+        meta: common::meta(radius),
+        nodes: vec![],
+        yarns: vec![],
+        contacts: vec![],
+        sim: None,
+    };
     f.nodes = pts.iter().map(|&x| Node { x, pinned: false }).collect();
     f.yarns.push(Yarn {
         spec: 0,
@@ -140,33 +149,6 @@ pub fn polyline_fabric(pts: &[Vec3], radius: f64) -> Fabric {
         points,
     });
     f
-}
-
-fn knitsim_test_meta_fabric(radius: f64) -> Fabric {
-    use knitsim::pattern::{Construction, Gauge, Meta, YarnSpec};
-    Fabric {
-        meta: Meta {
-            name: "contact test".into(),
-            gauge: Gauge {
-                stitches_per_10cm: 20.0,
-                rows_per_10cm: 28.0,
-            },
-            yarns: vec![YarnSpec {
-                name: "a".into(),
-                color: [180, 40, 40],
-                radius,
-                material: None,
-            }],
-            construction: Construction::Flat,
-            width: 1,
-            height: 1,
-            looseness: 1.0,
-        },
-        nodes: vec![],
-        yarns: vec![],
-        contacts: vec![],
-        sim: None,
-    }
 }
 
 /// Resamples a polyline to `n` segments of equal arc length.
