@@ -4,16 +4,17 @@
 //! that come back from EIL from the contact constraint, build the stencils,
 //! and minimise the incremental potential with Newton. A failed solve halves
 //! the step and retries; successes let it grow back (MODEL.md sec. 4).
-//! After each accepted step the friction anchors move so that no anchor
-//! spring exceeds the Coulomb bound `mu |f_n|`.
+//! The Coulomb limits of the friction springs are taken from the state at
+//! the start of each step; after an accepted step the anchors move to where
+//! the capped springs' return mapping left them (see `sim::friction`).
 
 use super::assignment::{assign, free_mask, Assignment};
 use super::contact_terms::{self, ContactState, ContactTerms};
 use super::dofs::DofLayout;
+use super::friction::{coulomb_limits, update_anchors};
 use super::params::SimParams;
 use super::problem::EolProblem;
 use super::system::{build_sets, rest_data, Discretization, RestData, StepInputs};
-use crate::rod::friction::coulomb_update;
 use crate::solver::assembly::AssemblyError;
 use crate::solver::linear::LinearSolver;
 use crate::solver::newton::{IterStats, NewtonError, NewtonHooks, NewtonParams, NewtonStatus};
@@ -47,6 +48,8 @@ pub struct Simulation {
     pub q: Vec<f64>,
     pub v: Vec<f64>,
     pub anchors: Vec<f64>,
+    /// Coulomb limit `mu |f_n|` per point, lagged from the step's start.
+    pub friction_limits: Vec<f64>,
     pub rest: RestData,
     pub assignment: Assignment,
     pub solver: LinearSolver,
@@ -68,6 +71,7 @@ impl Simulation {
         let assignment = assign(&fabric, &layout, &q, &rest_seg, params.assign);
         let rest = rest_data(&fabric, &layout, &assignment, &q);
         let anchors = (0..layout.n_points()).map(|i| q[3 * layout.n_nodes + i]).collect();
+        let friction_limits = coulomb_limits(&fabric, &layout, &assignment, &q, &params, &rest.rest_seg);
         Simulation {
             v: vec![0.0; q.len()],
             fabric,
@@ -75,6 +79,7 @@ impl Simulation {
             layout,
             q,
             anchors,
+            friction_limits,
             rest,
             assignment,
             solver,
@@ -93,6 +98,7 @@ impl Simulation {
         let step = StepInputs {
             inertia,
             anchors: &self.anchors,
+            friction_limits: &self.friction_limits,
         };
         let sets = build_sets(&disc, &self.q, &self.params, &self.rest, &step);
         let free = free_mask(&self.fabric, &self.layout, &self.assignment);
@@ -143,6 +149,14 @@ impl Simulation {
         on_iter: &mut dyn FnMut(&IterStats, usize),
     ) -> Result<StepReport, SimError> {
         self.reassign();
+        self.friction_limits = coulomb_limits(
+            &self.fabric,
+            &self.layout,
+            &self.assignment,
+            &self.q,
+            &self.params,
+            &self.rest.rest_seg,
+        );
         let eil_count = self.assignment.eil_count();
         let q0 = self.q.clone();
         let mut retries = 0;
@@ -178,7 +192,15 @@ impl Simulation {
                 }
                 self.q = q;
                 self.time += h;
-                self.update_anchors();
+                if self.params.terms.friction {
+                    update_anchors(
+                        &mut self.anchors,
+                        &self.friction_limits,
+                        &self.q,
+                        &self.layout,
+                        self.params.rod.kf,
+                    );
+                }
                 if converged && retries == 0 {
                     self.h = (self.h * 2.0).min(self.h_max);
                 }
@@ -194,48 +216,6 @@ impl Simulation {
             self.h *= 0.5;
             if self.h < self.h_min {
                 return Err(SimError::StepTooSmall(self.h));
-            }
-        }
-    }
-
-    /// Coulomb update of every friction anchor from the contact normal force,
-    /// estimated as the net pull of the point's own yarn on the node (the
-    /// force the other yarn must balance): `|T_prev t_prev + T_next t_next|`.
-    fn update_anchors(&mut self) {
-        if !self.params.terms.friction {
-            return;
-        }
-        let l = &self.layout;
-        let rp = &self.params.rod;
-        let disc = Discretization::new(&self.fabric, l, &self.assignment);
-        for c in &self.fabric.contacts {
-            for pr in [c.front, c.back] {
-                let pt = &self.fabric.yarns[pr.yarn].points[pr.point];
-                if pt.fixed_u || self.assignment.is_eil(l, pr) {
-                    continue;
-                }
-                let real = &disc.real[pr.yarn];
-                let Some(k) = real.iter().position(|&r| r == pr.point) else {
-                    continue;
-                };
-                let x0 = l.node_x(&self.q, pt.node);
-                let u0 = self.q[l.u(pr)];
-                let mut force = nalgebra::Vector3::zeros();
-                for nb in [k.checked_sub(1), Some(k + 1)].into_iter().flatten() {
-                    let Some(&pj) = real.get(nb) else { continue };
-                    let pj_ref = PointRef {
-                        yarn: pr.yarn,
-                        point: pj,
-                    };
-                    let dx = l.node_x(&self.q, self.fabric.yarns[pr.yarn].points[pj].node) - x0;
-                    let du = (self.q[l.u(pj_ref)] - u0).abs().max(1e-12);
-                    let len = dx.norm();
-                    if len > 0.0 {
-                        force += dx / len * (rp.ks * (len / du - 1.0));
-                    }
-                }
-                let i = l.point(pr);
-                self.anchors[i] = coulomb_update(self.anchors[i], u0, rp.kf, rp.mu, force.norm());
             }
         }
     }

@@ -47,6 +47,8 @@ pub struct StepInputs<'a> {
     pub inertia: Option<(f64, &'a [f64])>,
     /// Friction anchors, one per global point.
     pub anchors: &'a [f64],
+    /// Coulomb limit `mu |f_n|` per global point.
+    pub friction_limits: &'a [f64],
 }
 
 fn push3(v: &mut Vec<u32>, i: usize) {
@@ -274,7 +276,11 @@ pub fn build_sets(
         if p.terms.friction {
             for pr in [c.front, c.back] {
                 if !f.yarns[pr.yarn].points[pr.point].fixed_u {
-                    ft.push(FrictionSpring::new(rp.kf, step.anchors[l.point(pr)]));
+                    ft.push(FrictionSpring::new(
+                        rp.kf,
+                        step.anchors[l.point(pr)],
+                        step.friction_limits[l.point(pr)],
+                    ));
                     fd.push([l.u(pr) as u32]);
                 }
             }
