@@ -19,6 +19,12 @@ pub struct AssignParams {
     pub safety_fraction: f64,
     /// `false` disables EIL entirely (plain EoL), to show why EIL matters.
     pub enable_eil: bool,
+    /// An EIL point turns real again only once it is this fraction of the
+    /// rest segment from the previous real point (hysteresis; at least
+    /// `safety_fraction`). Without it a point hovering at the safety
+    /// distance flips kind every step, and every flip restarts Newton from
+    /// a perturbed state.
+    pub release_fraction: f64,
 }
 
 impl Default for AssignParams {
@@ -26,6 +32,7 @@ impl Default for AssignParams {
         AssignParams {
             safety_fraction: 0.1,
             enable_eil: true,
+            release_fraction: 0.2,
         }
     }
 }
@@ -77,6 +84,18 @@ pub fn rest_segment_lengths(f: &Fabric) -> Vec<f64> {
 
 /// Assigns EIL points for the coordinates `q`.
 pub fn assign(f: &Fabric, layout: &DofLayout, q: &[f64], rest_seg: &[f64], p: AssignParams) -> Assignment {
+    assign_after(f, layout, q, rest_seg, p, None)
+}
+
+/// [`assign`] with memory: points EIL in `prev` use the release distance.
+pub fn assign_after(
+    f: &Fabric,
+    layout: &DofLayout,
+    q: &[f64],
+    rest_seg: &[f64],
+    p: AssignParams,
+    prev: Option<&Assignment>,
+) -> Assignment {
     let mut order = Vec::with_capacity(f.yarns.len());
     let mut eil = vec![false; layout.n_points()];
     for (yi, y) in f.yarns.iter().enumerate() {
@@ -87,13 +106,15 @@ pub fn assign(f: &Fabric, layout: &DofLayout, q: &[f64], rest_seg: &[f64], p: As
         ord.sort_by(|&a, &b| u(a).total_cmp(&u(b)).then(a.cmp(&b)));
         if p.enable_eil {
             let d = p.safety_fraction * rest_seg[yi];
+            let d_release = p.release_fraction.max(p.safety_fraction) * rest_seg[yi];
             let mut last: Option<usize> = None;
             for &pi in &ord {
                 let Some(l) = last else {
                     last = Some(pi);
                     continue;
                 };
-                if u(pi) - u(l) >= d {
+                let was_eil = prev.is_some_and(|a| a.eil[off + pi]);
+                if u(pi) - u(l) >= if was_eil { d_release } else { d } {
                     last = Some(pi);
                 } else if !y.points[pi].fixed_u {
                     eil[off + pi] = true;
@@ -133,12 +154,13 @@ pub fn free_mask(f: &Fabric, layout: &DofLayout, a: &Assignment) -> Vec<bool> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::pattern::{Construction, Gauge, Meta, YarnSpec};
     use crate::topology::{Node, Vec3, Yarn, YarnPoint};
 
-    fn meta() -> Meta {
+    /// One red yarn of radius 0.5 mm; the sim tests' fabric metadata.
+    pub(crate) fn meta() -> Meta {
         Meta {
             name: "t".into(),
             gauge: Gauge {
@@ -234,5 +256,26 @@ mod tests {
             },
         );
         assert_eq!(off.eil_count(), 0);
+    }
+
+    #[test]
+    fn an_eil_point_turns_real_only_past_the_release_distance() {
+        // Rest segment 1/3: safety 0.033, release 0.067.
+        let f = yarn(&[(0.0, true), (0.5, false), (0.51, false), (1.0, true)]);
+        let l = DofLayout::new(&f);
+        let rs = rest_segment_lengths(&f);
+        let p = AssignParams::default();
+        let mut q = l.gather(&f);
+        let first = assign(&f, &l, &q, &rs, p);
+        assert_eq!(first.eil_count(), 1);
+        let u2 = l.u(PointRef { yarn: 0, point: 2 });
+        // Between the safety and the release distance: stays EIL with
+        // memory, is real without.
+        q[u2] = 0.5 + 0.05;
+        assert_eq!(assign_after(&f, &l, &q, &rs, p, Some(&first)).eil_count(), 1);
+        assert_eq!(assign(&f, &l, &q, &rs, p).eil_count(), 0);
+        // Past the release distance: real again.
+        q[u2] = 0.5 + 0.08;
+        assert_eq!(assign_after(&f, &l, &q, &rs, p, Some(&first)).eil_count(), 0);
     }
 }

@@ -17,6 +17,7 @@ pub mod problem;
 pub mod relax;
 pub mod simulation;
 pub mod system;
+pub mod transfer;
 
 pub use contact_terms::{ContactModeName, ContactParams};
 pub use params::{SimParams, Terms};

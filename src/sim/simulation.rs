@@ -8,13 +8,14 @@
 //! the start of each step; after an accepted step the anchors move to where
 //! the capped springs' return mapping left them (see `sim::friction`).
 
-use super::assignment::{assign, free_mask, Assignment};
+use super::assignment::{assign, assign_after, free_mask, Assignment};
 use super::contact_terms::{self, ContactState, ContactTerms};
 use super::dofs::DofLayout;
 use super::friction::{coulomb_limits, update_anchors};
 use super::params::SimParams;
 use super::problem::EolProblem;
 use super::system::{build_sets, rest_data, Discretization, RestData, StepInputs};
+use super::transfer::transfer;
 use crate::solver::assembly::AssemblyError;
 use crate::solver::linear::LinearSolver;
 use crate::solver::newton::{IterStats, NewtonError, NewtonHooks, NewtonParams, NewtonStatus};
@@ -116,27 +117,18 @@ impl Simulation {
         Ok(g.iter().fold(0.0f64, |m, v| m.max(v.abs())) / self.params.rod.ks)
     }
 
-    /// Re-assigns EIL points; nodes whose both points were EIL and now are
-    /// not take the position of the constraint (the partner's point).
+    /// Re-assigns EIL points and moves the state so every soft EIL
+    /// constraint starts the step at rest (see `sim::transfer`).
     fn reassign(&mut self) {
-        let new = assign(
+        let new = assign_after(
             &self.fabric,
             &self.layout,
             &self.q,
             &self.rest.rest_seg,
             self.params.assign,
+            Some(&self.assignment),
         );
-        let l = &self.layout;
-        for c in &self.fabric.contacts {
-            let was = self.assignment.is_eil(l, c.front) && self.assignment.is_eil(l, c.back);
-            let now = new.is_eil(l, c.front) && new.is_eil(l, c.back);
-            if was && !now {
-                let back_real = !new.is_eil(l, c.back);
-                let partner = if back_real { c.front } else { c.back };
-                let x = interpolated(&self.fabric, l, &self.assignment, &self.q, partner);
-                self.q[l.x(c.node)..l.x(c.node) + 3].copy_from_slice(x.as_slice());
-            }
-        }
+        transfer(&self.fabric, &self.layout, &self.assignment, &new, &mut self.q);
         self.assignment = new;
     }
 

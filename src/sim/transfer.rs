@@ -1,0 +1,173 @@
+//! State transfer when the EIL assignment changes (MODEL.md sec. 2, steps 5
+//! and 6).
+//!
+//! A contact's two yarn points share one node while both are real. When one
+//! of them becomes EIL its `x` is no longer a DOF but the interpolation on
+//! its yarn's chord, and the soft constraint `kc |x_eil(u) - x_partner|^2`
+//! takes over with `kc = 1000 ks / du`. Left where it was, the shared node
+//! sits at the old vertex of the bent yarn, off the new chord by the
+//! sagitta. The same holds when an EIL point's chord changes because a
+//! neighbour turned EIL. On an 8x8 linen stitch that is ~0.1 mm, an energy jump of about
+//! 0.5 J against an equilibrium energy of 7.5e-3 J, which the next Newton
+//! solve spent its whole iteration budget undoing (measured: every step at
+//! the 20-iteration cap). So every transition puts the constraint at rest:
+//!
+//! - **one point becomes EIL, the partner is real**: the node (now the
+//!   partner's alone) moves onto the EIL point's interpolated position. The
+//!   partner yarn bends by the sagitta, at its own (soft) stretch and bending
+//!   cost.
+//! - **both points EIL**: both `u` move to the closest points of the two
+//!   chords (what remains is the chords' distance, which only the real
+//!   nodes can close).
+//! - **an EIL point returns to real** (seed's EIL-to-EoL): the node takes the
+//!   position the constraint held, the partner's point.
+
+use super::assignment::Assignment;
+use super::dofs::DofLayout;
+use super::simulation::interpolated;
+use crate::topology::{Fabric, PointRef};
+
+/// Updates `q` for the change of assignment `old -> new`. A contact is
+/// touched when its points' kinds changed or an EIL point's interpolation
+/// neighbours did (a neighbour turning EIL widens the chord it lies on).
+pub fn transfer(f: &Fabric, l: &DofLayout, old: &Assignment, new: &Assignment, q: &mut [f64]) {
+    let kind = |a: &Assignment, p: PointRef| a.is_eil(l, p).then(|| a.interpolation_neighbours(l, p));
+    for c in &f.contacts {
+        let was = (old.is_eil(l, c.front), old.is_eil(l, c.back));
+        let now = (new.is_eil(l, c.front), new.is_eil(l, c.back));
+        let changed = was != now || kind(old, c.front) != kind(new, c.front) || kind(old, c.back) != kind(new, c.back);
+        if !changed {
+            continue;
+        }
+        let x = l.x(c.node);
+        match now {
+            (true, false) | (false, true) => {
+                let eil = if now.0 { c.front } else { c.back };
+                let at = interpolated(f, l, new, q, eil);
+                q[x..x + 3].copy_from_slice(at.as_slice());
+            }
+            (true, true) => {
+                // Alternating projections converge to the closest points of
+                // the two chords; a few sweeps are plenty at chord scale.
+                for _ in 0..4 {
+                    let target = interpolated(f, l, new, q, c.back);
+                    project_u(f, l, new, q, c.front, &target);
+                    let target = interpolated(f, l, new, q, c.front);
+                    project_u(f, l, new, q, c.back, &target);
+                }
+            }
+            (false, false) => {
+                // Both real again: the node is where the constraint held the
+                // EIL point(s); if both were EIL, take the front's position.
+                if was == (true, true) {
+                    let at = interpolated(f, l, old, q, c.front);
+                    q[x..x + 3].copy_from_slice(at.as_slice());
+                }
+            }
+        }
+    }
+}
+
+/// Moves the `u` of EIL point `p` to the point of its interpolation chord
+/// closest to `target`.
+fn project_u(f: &Fabric, l: &DofLayout, a: &Assignment, q: &mut [f64], p: PointRef, target: &nalgebra::Vector3<f64>) {
+    let Some((pa, pc)) = a.interpolation_neighbours(l, p) else {
+        return;
+    };
+    let y = &f.yarns[p.yarn];
+    let (xa, xc) = (l.node_x(q, y.points[pa].node), l.node_x(q, y.points[pc].node));
+    let ua = q[l.u(PointRef {
+        yarn: p.yarn,
+        point: pa,
+    })];
+    let uc = q[l.u(PointRef {
+        yarn: p.yarn,
+        point: pc,
+    })];
+    let d = xc - xa;
+    let len2 = d.norm_squared();
+    if len2 <= 0.0 || uc <= ua {
+        return;
+    }
+    // Stay strictly inside the interval so the sorted order is unchanged.
+    let s = ((target - xa).dot(&d) / len2).clamp(1e-3, 1.0 - 1e-3);
+    q[l.u(p)] = ua + s * (uc - ua);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::assignment::{assign, rest_segment_lengths, AssignParams};
+    use crate::topology::{Contact, ContactKind, Node, Vec3, Yarn, YarnPoint};
+
+    /// Yarn A bends at the contact node (vertex at z = 0.1 above its chord);
+    /// yarn B passes straight through the node along y.
+    fn bent_crossing() -> Fabric {
+        let node = |x, y, z| Node {
+            x: Vec3::new(x, y, z),
+            pinned: false,
+        };
+        let pt = |node, u, fixed_u| YarnPoint {
+            node,
+            u,
+            fixed_u,
+            eil: false,
+        };
+        Fabric {
+            meta: crate::sim::assignment::tests::meta(),
+            nodes: vec![
+                node(0.5, 0.0, 0.1),
+                node(0.0, 0.0, 0.0),
+                node(0.49, 0.0, 0.0),
+                node(1.0, 0.0, 0.0),
+                node(0.5, -0.5, 0.1),
+                node(0.5, 0.5, 0.1),
+            ],
+            yarns: vec![
+                Yarn {
+                    spec: 0,
+                    rest_length: 1.0,
+                    points: vec![pt(1, 0.0, true), pt(2, 0.49, true), pt(0, 0.5, false), pt(3, 1.0, true)],
+                },
+                Yarn {
+                    spec: 0,
+                    rest_length: 1.0,
+                    points: vec![pt(4, 0.0, true), pt(0, 0.5, false), pt(5, 1.0, true)],
+                },
+            ],
+            contacts: vec![Contact {
+                node: 0,
+                front: PointRef { yarn: 0, point: 2 },
+                back: PointRef { yarn: 1, point: 1 },
+                kind: ContactKind::Float,
+                partner: None,
+            }],
+            sim: None,
+        }
+    }
+
+    #[test]
+    fn a_point_turning_eil_moves_the_shared_node_onto_its_chord() {
+        let f = bent_crossing();
+        let l = DofLayout::new(&f);
+        let mut q = l.gather(&f);
+        // All real: the 0.01 gap to the fixed point at 0.49 is under the
+        // safety distance only once the assignment runs.
+        let old = Assignment {
+            order: vec![vec![0, 1, 2, 3], vec![0, 1, 2]],
+            eil: vec![false; l.n_points()],
+        };
+        let new = assign(&f, &l, &q, &rest_segment_lengths(&f), AssignParams::default());
+        let a_contact = PointRef { yarn: 0, point: 2 };
+        assert!(new.is_eil(&l, a_contact));
+        let before = (l.node_x(&q, 0) - interpolated(&f, &l, &new, &q, a_contact)).norm();
+        transfer(&f, &l, &old, &new, &mut q);
+        let after = (l.node_x(&q, 0) - interpolated(&f, &l, &new, &q, a_contact)).norm();
+        assert!(before > 0.09, "the vertex sat off the chord: {before}");
+        assert!(after < 1e-12, "the constraint starts at rest: {after}");
+        // Nothing changes on a second call with the same assignment.
+        let q1 = q.clone();
+        transfer(&f, &l, &new, &new, &mut q);
+        assert_eq!(q, q1);
+    }
+}
