@@ -8,47 +8,14 @@
 //! still a contact: its two yarn points share one node whose position is
 //! finite and whose `u` stays strictly inside both yarns (no unravelling).
 
-use knitsim::pattern::parse_str;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::solver::newton::Problem;
-use knitsim::topology::{compile, CompileOptions, Fabric};
+use knitsim::topology::Fabric;
 use std::path::Path;
 
-/// The pattern text with width, height and looseness replaced.
-fn variant(text: &str, w: usize, h: usize, looseness: &str) -> String {
-    let mut out = Vec::new();
-    for line in text.lines() {
-        if line.starts_with("looseness:") {
-            continue;
-        }
-        if line.starts_with("width:") {
-            out.push(format!("width: {w}"));
-            out.push(format!("looseness: {looseness}"));
-        } else if line.starts_with("height:") {
-            out.push(format!("height: {h}"));
-        } else {
-            out.push(line.to_string());
-        }
-    }
-    out.join("\n") + "\n"
-}
-
-/// The smallest variant with width and height >= 8 that compiles.
-fn small_fabric(path: &Path, looseness: &str) -> Fabric {
-    let text = std::fs::read_to_string(path).unwrap();
-    for w in 8..=40 {
-        for h in 8..=40 {
-            let Ok(parsed) = parse_str(&variant(&text, w, h, looseness), &path.display().to_string()) else {
-                continue;
-            };
-            if let Ok(f) = compile(&parsed.pattern, &CompileOptions::default()) {
-                return f;
-            }
-        }
-    }
-    panic!("{}: no size between 8 and 40 compiles", path.display());
-}
+mod common;
+use common::small_fabric;
 
 fn potential(sim: &Simulation) -> f64 {
     sim.problem(None).unwrap().energy(&sim.q)

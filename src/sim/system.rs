@@ -78,12 +78,24 @@ pub struct Discretization<'a> {
     pub a: &'a Assignment,
     /// Real (non-EIL) points per yarn in `u` order.
     pub real: Vec<Vec<usize>>,
+    /// The contact at each node, if any (`Contact::partner` names a node).
+    contact_at_node: Vec<Option<usize>>,
 }
 
 impl<'a> Discretization<'a> {
     pub fn new(f: &'a Fabric, l: &'a DofLayout, a: &'a Assignment) -> Self {
         let real = (0..f.yarns.len()).map(|y| a.real_points(l, y).collect()).collect();
-        Discretization { f, l, a, real }
+        let mut contact_at_node = vec![None; f.nodes.len()];
+        for (ci, c) in f.contacts.iter().enumerate() {
+            contact_at_node[c.node] = Some(ci);
+        }
+        Discretization {
+            f,
+            l,
+            a,
+            real,
+            contact_at_node,
+        }
     }
 
     fn node(&self, y: usize, p: usize) -> usize {
@@ -121,7 +133,7 @@ impl<'a> Discretization<'a> {
     /// wrapping around `wb` between contacts `c` and its partner.
     fn wrap_dofs(&self, c: usize, wa_front: bool) -> Option<[u32; 18]> {
         let ct = &self.f.contacts[c];
-        let cp = &self.f.contacts[ct.partner?];
+        let cp = &self.f.contacts[self.contact_at_node[ct.partner?]?];
         let (pa, pb, qa) = if wa_front {
             (ct.front, ct.back, cp.front)
         } else {

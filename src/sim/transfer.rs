@@ -19,8 +19,9 @@
 //! - **both points EIL**: both `u` move to the closest points of the two
 //!   chords (what remains is the chords' distance, which only the real
 //!   nodes can close).
-//! - **an EIL point returns to real** (seed's EIL-to-EoL): the node takes the
-//!   position the constraint held, the partner's point.
+//! - **an EIL point returns to real** (seed's EIL-to-EoL): if its partner
+//!   was real the node is already where the constraint held it; if both
+//!   were EIL the node goes on the front yarn's new chord at its `u`.
 
 use super::assignment::Assignment;
 use super::dofs::DofLayout;
@@ -57,15 +58,47 @@ pub fn transfer(f: &Fabric, l: &DofLayout, old: &Assignment, new: &Assignment, q
                 }
             }
             (false, false) => {
-                // Both real again: the node is where the constraint held the
-                // EIL point(s); if both were EIL, take the front's position.
+                // Both real again. With one of them real before, the node is
+                // that point's and stays. With both EIL before, the node goes
+                // on the front yarn's new chord at the front's `u`: the old
+                // interpolation would clamp a point that slid past a real
+                // neighbour onto that neighbour (a zero-length segment).
                 if was == (true, true) {
-                    let at = interpolated(f, l, old, q, c.front);
-                    q[x..x + 3].copy_from_slice(at.as_slice());
+                    if let Some(at) = on_new_chord(f, l, new, q, c.front) {
+                        q[x..x + 3].copy_from_slice(at.as_slice());
+                    }
                 }
             }
         }
     }
+}
+
+/// Position of real point `p` interpolated at its `u` between the real
+/// points of its yarn that bracket it in the new order (`p` excluded).
+fn on_new_chord(f: &Fabric, l: &DofLayout, a: &Assignment, q: &[f64], p: PointRef) -> Option<nalgebra::Vector3<f64>> {
+    let ord = &a.order[p.yarn];
+    let k = ord.iter().position(|&i| i == p.point)?;
+    let real = |i: &&usize| {
+        !a.is_eil(
+            l,
+            PointRef {
+                yarn: p.yarn,
+                point: **i,
+            },
+        )
+    };
+    let prev = *ord[..k].iter().rev().find(real)?;
+    let next = *ord[k + 1..].iter().find(real)?;
+    let y = &f.yarns[p.yarn];
+    let u = |i: usize| q[l.u(PointRef { yarn: p.yarn, point: i })];
+    let (ua, uc) = (u(prev), u(next));
+    let s = if uc > ua {
+        ((u(p.point) - ua) / (uc - ua)).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let (xa, xc) = (l.node_x(q, y.points[prev].node), l.node_x(q, y.points[next].node));
+    Some(xa * (1.0 - s) + xc * s)
 }
 
 /// Moves the `u` of EIL point `p` to the point of its interpolation chord

@@ -35,6 +35,7 @@ pub mod passes;
 pub mod path;
 pub mod rest_length;
 pub mod sample;
+pub mod stack;
 pub mod stats;
 
 pub use clearance::{clearance, ClearanceOptions, ClearanceReport, Violation};
@@ -42,6 +43,7 @@ pub use error::TopologyError;
 pub use fabric::*;
 pub use layout::LayoutOptions;
 pub use options::CompileOptions;
+pub use stack::stack_layers;
 pub use stats::{stats, Stats};
 
 use crate::pattern::Pattern;

@@ -1,9 +1,11 @@
 //! Shared test fixtures: the structures every stage must handle.
 #![allow(dead_code)]
 
+use knitsim::pattern::parse_str;
 use knitsim::pattern::{Construction, Gauge, Meta, Pattern, YarnSpec};
 use knitsim::topology::sample::{chart_pattern, tile};
-use knitsim::topology::{Fabric, Node, Vec3, Yarn, YarnPoint};
+use knitsim::topology::{compile, CompileOptions, Fabric, Node, Vec3, Yarn, YarnPoint};
+use std::path::Path;
 
 /// A named structure: stitch tile and optional colour tile, top row first.
 pub type Structure = (&'static str, Vec<&'static str>, Option<Vec<&'static str>>);
@@ -163,4 +165,44 @@ pub fn empty_fabric(radius: f64) -> Fabric {
         contacts: vec![],
         sim: None,
     }
+}
+
+/// The pattern text with width, height and looseness replaced.
+pub fn variant(text: &str, w: usize, h: usize, looseness: &str) -> String {
+    let mut out = Vec::new();
+    for line in text.lines() {
+        if line.starts_with("looseness:") {
+            continue;
+        }
+        if line.starts_with("width:") {
+            out.push(format!("width: {w}"));
+            out.push(format!("looseness: {looseness}"));
+        } else if line.starts_with("height:") {
+            out.push(format!("height: {h}"));
+        } else {
+            out.push(line.to_string());
+        }
+    }
+    out.join("\n") + "\n"
+}
+
+/// The smallest variant with width and height >= 8 that compiles.
+pub fn small_fabric(path: &Path, looseness: &str) -> Fabric {
+    sized_fabric(path, looseness, 8)
+}
+
+/// The smallest variant with width and height >= `min` that compiles.
+pub fn sized_fabric(path: &Path, looseness: &str, min: usize) -> Fabric {
+    let text = std::fs::read_to_string(path).unwrap();
+    for w in min..=40 {
+        for h in min..=40 {
+            let Ok(parsed) = parse_str(&variant(&text, w, h, looseness), &path.display().to_string()) else {
+                continue;
+            };
+            if let Ok(f) = compile(&parsed.pattern, &CompileOptions::default()) {
+                return f;
+            }
+        }
+    }
+    panic!("{}: no size between {min} and 40 compiles", path.display());
 }

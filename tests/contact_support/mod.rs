@@ -68,21 +68,51 @@ pub fn min_separation(x: &[Vec3], segs: &[[usize; 2]]) -> f64 {
 /// changes are found on a fine time grid, refined by bisection, and counted
 /// when the segments are (nearly) touching there.
 pub fn crossings(x0: &[Vec3], x1: &[Vec3], segs: &[[usize; 2]], touch: f64) -> usize {
+    crossings_where(x0, x1, segs, touch, |_, _| false)
+}
+
+/// [`crossings`] minus the pairs of segment indices `(i, j)`, `i < j`, for
+/// which `skip(i, j)` holds (pairs a simulator deliberately leaves without
+/// thickness contact).
+pub fn crossings_where(
+    x0: &[Vec3],
+    x1: &[Vec3],
+    segs: &[[usize; 2]],
+    touch: f64,
+    skip: impl Fn(usize, usize) -> bool,
+) -> usize {
+    crossing_pairs(x0, x1, segs, touch, skip).len()
+}
+
+/// The pairs [`crossings_where`] counts: segment indices `(i, j)` and the
+/// time in `[0, 1]` at which they touch.
+pub fn crossing_pairs(
+    x0: &[Vec3],
+    x1: &[Vec3],
+    segs: &[[usize; 2]],
+    touch: f64,
+    skip: impl Fn(usize, usize) -> bool,
+) -> Vec<(usize, usize, f64)> {
     let at = |k: usize, t: f64| x0[k] + (x1[k] - x0[k]) * t;
     let triple = |a: &[usize; 2], b: &[usize; 2], t: f64| {
         let (a0, a1, b0, b1) = (at(a[0], t), at(a[1], t), at(b[0], t), at(b[1], t));
         (a1 - a0).cross(&(b1 - b0)).dot(&(b0 - a0))
     };
     let reach: Vec<f64> = (0..x0.len()).map(|k| (x1[k] - x0[k]).norm()).collect();
-    let mut count = 0;
+    let boxes: Vec<(Vec3, Vec3)> = segs.iter().map(|s| bounding_box(&x0[s[0]], &x0[s[1]])).collect();
+    let mut found = Vec::new();
     for (i, a) in segs.iter().enumerate() {
-        for b in &segs[i + 1..] {
-            if a.iter().any(|n| b.contains(n)) {
+        for (j, b) in segs.iter().enumerate().skip(i + 1) {
+            if a.iter().any(|n| b.contains(n)) || skip(i, j) {
                 continue;
             }
             // Cheap rejection: too far apart at the start for the motion.
-            let d0 = segment_distance(&x0[a[0]], &x0[a[1]], &x0[b[0]], &x0[b[1]]);
+            // The boxes' gap is a lower bound of the segments' distance.
             let motion = reach[a[0]].max(reach[a[1]]) + reach[b[0]].max(reach[b[1]]);
+            if box_gap(&boxes[i], &boxes[j]) > motion + touch {
+                continue;
+            }
+            let d0 = segment_distance(&x0[a[0]], &x0[a[1]], &x0[b[0]], &x0[b[1]]);
             if d0 > motion + touch {
                 continue;
             }
@@ -107,7 +137,7 @@ pub fn crossings(x0: &[Vec3], x1: &[Vec3], segs: &[[usize; 2]], touch: f64) -> u
                     let t_root = 0.5 * (lo + hi);
                     let (a0, a1, b0, b1) = (at(a[0], t_root), at(a[1], t_root), at(b[0], t_root), at(b[1], t_root));
                     if segment_distance(&a0, &a1, &b0, &b1) < touch {
-                        count += 1;
+                        found.push((i, j, t_root));
                         break;
                     }
                 }
@@ -116,7 +146,32 @@ pub fn crossings(x0: &[Vec3], x1: &[Vec3], segs: &[[usize; 2]], touch: f64) -> u
             }
         }
     }
-    count
+    found
+}
+
+/// [`min_separation`] over the pairs `skip` keeps (see [`crossings_where`]).
+pub fn min_separation_where(x: &[Vec3], segs: &[[usize; 2]], skip: impl Fn(usize, usize) -> bool) -> f64 {
+    let boxes: Vec<(Vec3, Vec3)> = segs.iter().map(|s| bounding_box(&x[s[0]], &x[s[1]])).collect();
+    let mut best = f64::INFINITY;
+    for (i, a) in segs.iter().enumerate() {
+        for (j, b) in segs.iter().enumerate().skip(i + 1) {
+            if box_gap(&boxes[i], &boxes[j]) >= best || a.iter().any(|n| b.contains(n)) || skip(i, j) {
+                continue;
+            }
+            best = best.min(segment_distance(&x[a[0]], &x[a[1]], &x[b[0]], &x[b[1]]));
+        }
+    }
+    best
+}
+
+fn bounding_box(p: &Vec3, q: &Vec3) -> (Vec3, Vec3) {
+    (p.inf(q), p.sup(q))
+}
+
+/// Distance between two axis-aligned boxes (0 when they overlap).
+fn box_gap(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
+    let gap = (b.0 - a.1).sup(&(a.0 - b.1)).sup(&Vec3::zeros());
+    gap.norm()
 }
 
 /// A single Lagrangian yarn through `pts` (all `u` fixed at the polyline
