@@ -16,7 +16,6 @@
 //! Release mode: `cargo test --release --test contact_tight_patterns --
 //! --nocapture` prints the measured figures.
 
-mod common;
 mod contact_support;
 mod fabric_frames;
 
@@ -35,7 +34,7 @@ const STEPS: usize = 25;
 fn small(stem: &str, w: usize, h: usize, looseness: &str) -> Fabric {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("patterns/{stem}.knit"));
     let text = std::fs::read_to_string(&path).expect("pattern file");
-    let parsed = parse_str(&common::variant(&text, w, h, looseness), stem).expect("variant parses");
+    let parsed = parse_str(&contact_support::common::variant(&text, w, h, looseness), stem).expect("variant parses");
     compile(&parsed.pattern, &CompileOptions::default()).expect("variant compiles")
 }
 
