@@ -23,6 +23,7 @@ use super::assignment::Assignment;
 use super::dofs::DofLayout;
 use super::params::SimParams;
 use super::simulation::interpolated;
+use super::system::Discretization;
 use crate::energy::Stencil;
 use crate::rod::{bending::Bending, friction::coulomb_update, gravity::SegmentGravity, stretch::Stretch};
 use crate::topology::{Fabric, PointRef, Vec3};
@@ -41,7 +42,7 @@ pub fn coulomb_limits(
     if !p.terms.friction {
         return limits;
     }
-    let real: Vec<Vec<usize>> = (0..f.yarns.len()).map(|y| a.real_points(l, y).collect()).collect();
+    let real = Discretization::new(f, l, a).real;
     // Rank of each real point in its yarn's real list (global point numbering).
     let mut rank = vec![usize::MAX; l.n_points()];
     for (y, r) in real.iter().enumerate() {
