@@ -107,14 +107,33 @@ pub fn assign_after(
         if p.enable_eil {
             let d = p.safety_fraction * rest_seg[yi];
             let d_release = p.release_fraction.max(p.safety_fraction) * rest_seg[yi];
+            let was_eil = |pi: usize| prev.is_some_and(|a| a.eil[off + pi]);
+            // Per sorted position, the `u` of the next point that stays a
+            // node for sure (real before, or fixed): an EIL point is released
+            // only with room on both sides, otherwise releasing it would
+            // demote its next neighbour in the same pass (two transitions,
+            // and a new segment of near-zero length in between).
+            let mut next_anchor = vec![f64::INFINITY; ord.len()];
+            for k in (0..ord.len().saturating_sub(1)).rev() {
+                let n = ord[k + 1];
+                next_anchor[k] = if y.points[n].fixed_u || !was_eil(n) {
+                    u(n)
+                } else {
+                    next_anchor[k + 1]
+                };
+            }
             let mut last: Option<usize> = None;
-            for &pi in &ord {
+            for (k, &pi) in ord.iter().enumerate() {
                 let Some(l) = last else {
                     last = Some(pi);
                     continue;
                 };
-                let was_eil = prev.is_some_and(|a| a.eil[off + pi]);
-                if u(pi) - u(l) >= if was_eil { d_release } else { d } {
+                let room = if was_eil(pi) {
+                    u(pi) - u(l) >= d_release && next_anchor[k] - u(pi) >= d_release
+                } else {
+                    u(pi) - u(l) >= d
+                };
+                if room {
                     last = Some(pi);
                 } else if !y.points[pi].fixed_u {
                     eil[off + pi] = true;
@@ -277,5 +296,28 @@ pub(crate) mod tests {
         // Past the release distance: real again.
         q[u2] = 0.5 + 0.08;
         assert_eq!(assign_after(&f, &l, &q, &rs, p, Some(&first)).eil_count(), 0);
+    }
+
+    #[test]
+    fn an_eil_point_is_not_released_onto_its_next_neighbour() {
+        // Rest segment 0.25: safety 0.025, release 0.05. Point 2 is EIL
+        // (0.01 past point 1); point 3 is a real neighbour ahead.
+        let f = yarn(&[(0.0, true), (0.5, false), (0.51, false), (0.62, false), (1.0, true)]);
+        let l = DofLayout::new(&f);
+        let rs = rest_segment_lengths(&f);
+        let p = AssignParams::default();
+        let mut q = l.gather(&f);
+        let first = assign(&f, &l, &q, &rs, p);
+        assert_eq!(first.eil, vec![false, false, true, false, false]);
+        // Slid to 0.6: room behind (0.1), none ahead (0.02). Releasing it
+        // would demote point 3 in the same pass; it stays EIL instead.
+        let u2 = l.u(PointRef { yarn: 0, point: 2 });
+        q[u2] = 0.6;
+        let next = assign_after(&f, &l, &q, &rs, p, Some(&first));
+        assert_eq!(next.eil, vec![false, false, true, false, false]);
+        // With room on both sides it is released.
+        q[u2] = 0.56;
+        let next = assign_after(&f, &l, &q, &rs, p, Some(&first));
+        assert_eq!(next.eil_count(), 0);
     }
 }

@@ -10,6 +10,7 @@
 pub mod assignment;
 pub mod contact_terms;
 pub mod dofs;
+pub mod end_stops;
 pub mod friction;
 pub mod inertia;
 pub mod params;

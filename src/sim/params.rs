@@ -20,6 +20,9 @@ pub struct Terms {
     pub shear: bool,
     pub parallel: bool,
     pub gravity: bool,
+    /// Yarn tails are woven in: the outermost contacts keep their distance
+    /// from the yarn ends (see `sim::system::end_stops`).
+    pub secured_ends: bool,
 }
 
 impl Default for Terms {
@@ -31,6 +34,7 @@ impl Default for Terms {
             shear: true,
             parallel: true,
             gravity: false,
+            secured_ends: true,
         }
     }
 }

@@ -212,6 +212,19 @@ impl Simulation {
         }
     }
 
+    /// Per contact with an EIL point, the distance between where its two
+    /// yarns put it (the soft constraint's violation; see
+    /// `RodParams::kc_factor`). Contacts with both points real share one
+    /// node and have no gap.
+    pub fn eil_gaps(&self) -> Vec<f64> {
+        let (f, l, a) = (&self.fabric, &self.layout, &self.assignment);
+        f.contacts
+            .iter()
+            .filter(|c| a.is_eil(l, c.front) || a.is_eil(l, c.back))
+            .map(|c| (interpolated(f, l, a, &self.q, c.front) - interpolated(f, l, a, &self.q, c.back)).norm())
+            .collect()
+    }
+
     /// The fabric with the current state written in: positions, `u`,
     /// EIL flags, points re-sorted by `u` and contacts re-addressed.
     pub fn snapshot(&self) -> Fabric {
@@ -235,7 +248,7 @@ impl Simulation {
 }
 
 /// Position of a point under an assignment: its node, or the interpolation
-/// between its real neighbours when it is EIL.
+/// between its real neighbours (seed 000 eq. 3) when it is EIL.
 pub fn interpolated(f: &Fabric, l: &DofLayout, a: &Assignment, q: &[f64], p: PointRef) -> nalgebra::Vector3<f64> {
     let pt = &f.yarns[p.yarn].points[p.point];
     if !a.is_eil(l, p) {
@@ -256,11 +269,10 @@ pub fn interpolated(f: &Fabric, l: &DofLayout, a: &Assignment, q: &[f64], p: Poi
         })],
         q[l.u(p)],
     );
-    let s = if uc > ua {
-        ((u - ua) / (uc - ua)).clamp(0.0, 1.0)
-    } else {
-        0.5
-    };
+    // Not clamped to [0, 1]: within a step an EIL point may slide past a
+    // neighbour (the order is revised at the next step), and the constraint
+    // stencil (`rod::eil`) extrapolates along the chord; so does this.
+    let s = if uc > ua { (u - ua) / (uc - ua) } else { 0.5 };
     l.node_x(q, y.points[pa].node) * (1.0 - s) + l.node_x(q, y.points[pc].node) * s
 }
 

@@ -327,6 +327,10 @@ pub fn build_sets(
         let (pt, pd) = parallel_terms(disc, q, p);
         add(Box::new(StencilSet::new("parallel", pt, pd)));
     }
+    if p.terms.secured_ends {
+        let (et, ed) = super::end_stops::end_stops(disc, p);
+        add(Box::new(StencilSet::new("yarn-ends", et, ed)));
+    }
 
     if !p.obstacles.is_empty() {
         let (mut ot, mut od) = (vec![], vec![]);

@@ -1,0 +1,152 @@
+//! Secured yarn ends: a knitter weaves the tails in.
+//!
+//! The compiled yarn ends in a short free tail past its outermost contact
+//! (a few mm). Nothing in the rod model keeps that tail from being pulled
+//! through the last loop: the fabric's tension slides the contact toward
+//! the fixed-`u` end until it falls off. Measured before this term existed:
+//! on an 8x8 linen stitch the last contact came to 2e-8 m from the end
+//! within one relaxation step, leaving a segment whose stretch stiffness
+//! `ks / du` stalled Newton, and a small jacquard lost a contact off its
+//! yarn's start. A designer's pattern never unravels from its tails, so
+//! relaxation must not either (issue 3, acceptance 5).
+//!
+//! The stop is the parallel-contact penalty (`rod::parallel`) between the
+//! end's fixed `u` and the outermost contact point's `u`, at a distance of
+//! one yarn diameter, or half the compiled tail if that is shorter (so the
+//! compiled state is never inside a stop). It is a term like any other:
+//! `Terms::secured_ends` switches it off for scenes that want a tail to
+//! pull out.
+
+use super::system::Discretization;
+use super::SimParams;
+use crate::rod::parallel::ParallelContact;
+use crate::topology::PointRef;
+
+/// The stops of every yarn end that has a contact: `(stencil, [u_lo, u_hi])`.
+pub fn end_stops(disc: &Discretization, p: &SimParams) -> (Vec<ParallelContact>, Vec<[u32; 2]>) {
+    let (f, l) = (disc.f, disc.l);
+    let mut is_contact = vec![false; l.n_points()];
+    for c in &f.contacts {
+        is_contact[l.point(c.front)] = true;
+        is_contact[l.point(c.back)] = true;
+    }
+    let (mut t, mut d) = (vec![], vec![]);
+    for (y, ord) in disc.a.order.iter().enumerate() {
+        let pts = &f.yarns[y].points;
+        let contact = |pi: &&usize| is_contact[l.point(PointRef { yarn: y, point: **pi })];
+        let (Some(&start), Some(&end)) = (ord.first(), ord.last()) else {
+            continue;
+        };
+        let ends = [
+            (start, ord.iter().find(contact), true),
+            (end, ord.iter().rev().find(contact), false),
+        ];
+        for (e, c, at_start) in ends {
+            let Some(&c) = c else { continue };
+            if !pts[e].fixed_u || c == e {
+                continue;
+            }
+            // The compiled (rest) tail: `Fabric` keeps the compiled `u`.
+            let tail = (pts[c].u - pts[e].u).abs();
+            let (ue, uc) = (
+                l.u(PointRef { yarn: y, point: e }) as u32,
+                l.u(PointRef { yarn: y, point: c }) as u32,
+            );
+            t.push(ParallelContact::new(p.rod.kp, p.rod.diameter().min(0.5 * tail)));
+            d.push(if at_start { [ue, uc] } else { [uc, ue] });
+        }
+    }
+    (t, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::energy::Stencil;
+    use crate::sim::assignment::{assign, rest_segment_lengths, tests::meta, AssignParams};
+    use crate::sim::dofs::DofLayout;
+    use crate::topology::{Contact, ContactKind, Fabric, Node, Vec3, Yarn, YarnPoint};
+    use nalgebra::SVector;
+
+    /// Two crossing yarns of length 0.1 m; the contact sits 4 mm from the
+    /// start of yarn 0 (a short tail) and mid-way along yarn 1.
+    fn crossing() -> Fabric {
+        let node = |x, y| Node {
+            x: Vec3::new(x, y, 0.0),
+            pinned: false,
+        };
+        let pt = |node, u, fixed_u| YarnPoint {
+            node,
+            u,
+            fixed_u,
+            eil: false,
+        };
+        Fabric {
+            meta: meta(),
+            nodes: vec![
+                node(0.004, 0.0),
+                node(0.0, 0.0),
+                node(0.1, 0.0),
+                node(0.004, -0.05),
+                node(0.004, 0.05),
+            ],
+            yarns: vec![
+                Yarn {
+                    spec: 0,
+                    rest_length: 0.1,
+                    points: vec![pt(1, 0.0, true), pt(0, 0.004, false), pt(2, 0.1, true)],
+                },
+                Yarn {
+                    spec: 0,
+                    rest_length: 0.1,
+                    points: vec![pt(3, 0.0, true), pt(0, 0.05, false), pt(4, 0.1, true)],
+                },
+            ],
+            contacts: vec![Contact {
+                node: 0,
+                front: PointRef { yarn: 0, point: 1 },
+                back: PointRef { yarn: 1, point: 1 },
+                kind: ContactKind::Float,
+                partner: None,
+            }],
+            sim: None,
+        }
+    }
+
+    #[test]
+    fn every_yarn_end_gets_a_stop_a_diameter_or_half_the_tail_long() {
+        let f = crossing();
+        let l = DofLayout::new(&f);
+        let q = l.gather(&f);
+        let a = assign(&f, &l, &q, &rest_segment_lengths(&f), AssignParams::default());
+        let disc = Discretization::new(&f, &l, &a);
+        let p = SimParams::default();
+        let (t, d) = end_stops(&disc, &p);
+        assert_eq!(t.len(), 4, "two ends on each of two yarns");
+        let u = |y, pi| l.u(PointRef { yarn: y, point: pi }) as u32;
+        assert_eq!(d[0], [u(0, 0), u(0, 1)]);
+        assert_eq!(d[1], [u(0, 1), u(0, 2)]);
+        // Yarn 0's start tail is 4 mm: a diameter (1.5 mm) fits.
+        assert_eq!(t[0].diameter, p.rod.diameter());
+        // At rest no stop pushes; a contact slid to 0.5 mm from the end is
+        // pushed back toward the fabric (positive energy, force away from the end).
+        for (s, dd) in t.iter().zip(&d) {
+            let x = SVector::<f64, 2>::new(q[dd[0] as usize], q[dd[1] as usize]);
+            assert_eq!(s.value(&x), 0.0);
+        }
+        let slid = SVector::<f64, 2>::new(0.0, 0.0005);
+        assert!(t[0].value(&slid) > 0.0);
+        assert!(
+            t[0].gradient(&slid)[1] < 0.0,
+            "energy falls as the contact moves away from the end"
+        );
+        // Half the tail when the tail is shorter than two diameters.
+        let mut short = crossing();
+        short.yarns[0].points[1].u = 0.001;
+        let l = DofLayout::new(&short);
+        let q = l.gather(&short);
+        let a = assign(&short, &l, &q, &rest_segment_lengths(&short), AssignParams::default());
+        let (t, _) = end_stops(&Discretization::new(&short, &l, &a), &p);
+        assert!((t[0].diameter - 0.0005).abs() < 1e-15);
+    }
+}
