@@ -21,7 +21,7 @@ pub struct Terms {
     pub parallel: bool,
     pub gravity: bool,
     /// Yarn tails are woven in: the outermost contacts keep their distance
-    /// from the yarn ends (see `sim::system::end_stops`).
+    /// from the yarn ends (see `sim::end_stops`).
     pub secured_ends: bool,
 }
 
