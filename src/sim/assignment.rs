@@ -199,6 +199,53 @@ pub(crate) mod tests {
         }
     }
 
+    /// Two yarns of rest length `rest_length` through `nodes`, each point
+    /// given as `(node, u, fixed_u)`, crossing at node 0: one float contact
+    /// between point `front` of yarn 0 and point `back` of yarn 1.
+    pub(crate) fn crossing_fabric(
+        nodes: &[[f64; 3]],
+        yarns: [&[(usize, f64, bool)]; 2],
+        rest_length: f64,
+        front: usize,
+        back: usize,
+    ) -> Fabric {
+        use crate::topology::{Contact, ContactKind};
+        Fabric {
+            meta: meta(),
+            nodes: nodes
+                .iter()
+                .map(|&[x, y, z]| Node {
+                    x: Vec3::new(x, y, z),
+                    pinned: false,
+                })
+                .collect(),
+            yarns: yarns
+                .iter()
+                .map(|pts| Yarn {
+                    spec: 0,
+                    rest_length,
+                    points: pts
+                        .iter()
+                        .map(|&(node, u, fixed_u)| YarnPoint {
+                            node,
+                            u,
+                            fixed_u,
+                            eil: false,
+                        })
+                        .collect(),
+                })
+                .collect(),
+            contacts: vec![Contact {
+                node: 0,
+                front: PointRef { yarn: 0, point: front },
+                back: PointRef { yarn: 1, point: back },
+                kind: ContactKind::Float,
+                partner: None,
+            }],
+            sim: None,
+        }
+    }
+
     /// One straight yarn with points at the given u's; `fixed` marks fixed-u points.
     fn yarn(us: &[(f64, bool)]) -> Fabric {
         let nodes = us

@@ -63,54 +63,30 @@ pub fn end_stops(disc: &Discretization, p: &SimParams) -> (Vec<ParallelContact>,
 mod tests {
     use super::*;
     use crate::energy::Stencil;
-    use crate::sim::assignment::{assign, rest_segment_lengths, tests::meta, AssignParams};
+    use crate::sim::assignment::{assign, rest_segment_lengths, tests::crossing_fabric, AssignParams};
     use crate::sim::dofs::DofLayout;
-    use crate::topology::{Contact, ContactKind, Fabric, Node, Vec3, Yarn, YarnPoint};
+    use crate::topology::Fabric;
     use nalgebra::SVector;
 
     /// Two crossing yarns of length 0.1 m; the contact sits 4 mm from the
     /// start of yarn 0 (a short tail) and mid-way along yarn 1.
     fn crossing() -> Fabric {
-        let node = |x, y| Node {
-            x: Vec3::new(x, y, 0.0),
-            pinned: false,
-        };
-        let pt = |node, u, fixed_u| YarnPoint {
-            node,
-            u,
-            fixed_u,
-            eil: false,
-        };
-        Fabric {
-            meta: meta(),
-            nodes: vec![
-                node(0.004, 0.0),
-                node(0.0, 0.0),
-                node(0.1, 0.0),
-                node(0.004, -0.05),
-                node(0.004, 0.05),
+        crossing_fabric(
+            &[
+                [0.004, 0.0, 0.0],
+                [0.0, 0.0, 0.0],
+                [0.1, 0.0, 0.0],
+                [0.004, -0.05, 0.0],
+                [0.004, 0.05, 0.0],
             ],
-            yarns: vec![
-                Yarn {
-                    spec: 0,
-                    rest_length: 0.1,
-                    points: vec![pt(1, 0.0, true), pt(0, 0.004, false), pt(2, 0.1, true)],
-                },
-                Yarn {
-                    spec: 0,
-                    rest_length: 0.1,
-                    points: vec![pt(3, 0.0, true), pt(0, 0.05, false), pt(4, 0.1, true)],
-                },
+            [
+                &[(1, 0.0, true), (0, 0.004, false), (2, 0.1, true)],
+                &[(3, 0.0, true), (0, 0.05, false), (4, 0.1, true)],
             ],
-            contacts: vec![Contact {
-                node: 0,
-                front: PointRef { yarn: 0, point: 1 },
-                back: PointRef { yarn: 1, point: 1 },
-                kind: ContactKind::Float,
-                partner: None,
-            }],
-            sim: None,
-        }
+            0.1,
+            1,
+            1,
+        )
     }
 
     #[test]

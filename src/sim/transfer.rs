@@ -130,53 +130,28 @@ fn project_u(f: &Fabric, l: &DofLayout, a: &Assignment, q: &mut [f64], p: PointR
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::assignment::{assign, rest_segment_lengths, AssignParams};
-    use crate::topology::{Contact, ContactKind, Node, Vec3, Yarn, YarnPoint};
+    use crate::sim::assignment::{assign, rest_segment_lengths, tests::crossing_fabric, AssignParams};
 
     /// Yarn A bends at the contact node (vertex at z = 0.1 above its chord);
     /// yarn B passes straight through the node along y.
     fn bent_crossing() -> Fabric {
-        let node = |x, y, z| Node {
-            x: Vec3::new(x, y, z),
-            pinned: false,
-        };
-        let pt = |node, u, fixed_u| YarnPoint {
-            node,
-            u,
-            fixed_u,
-            eil: false,
-        };
-        Fabric {
-            meta: crate::sim::assignment::tests::meta(),
-            nodes: vec![
-                node(0.5, 0.0, 0.1),
-                node(0.0, 0.0, 0.0),
-                node(0.49, 0.0, 0.0),
-                node(1.0, 0.0, 0.0),
-                node(0.5, -0.5, 0.1),
-                node(0.5, 0.5, 0.1),
+        crossing_fabric(
+            &[
+                [0.5, 0.0, 0.1],
+                [0.0, 0.0, 0.0],
+                [0.49, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.5, -0.5, 0.1],
+                [0.5, 0.5, 0.1],
             ],
-            yarns: vec![
-                Yarn {
-                    spec: 0,
-                    rest_length: 1.0,
-                    points: vec![pt(1, 0.0, true), pt(2, 0.49, true), pt(0, 0.5, false), pt(3, 1.0, true)],
-                },
-                Yarn {
-                    spec: 0,
-                    rest_length: 1.0,
-                    points: vec![pt(4, 0.0, true), pt(0, 0.5, false), pt(5, 1.0, true)],
-                },
+            [
+                &[(1, 0.0, true), (2, 0.49, true), (0, 0.5, false), (3, 1.0, true)],
+                &[(4, 0.0, true), (0, 0.5, false), (5, 1.0, true)],
             ],
-            contacts: vec![Contact {
-                node: 0,
-                front: PointRef { yarn: 0, point: 2 },
-                back: PointRef { yarn: 1, point: 1 },
-                kind: ContactKind::Float,
-                partner: None,
-            }],
-            sim: None,
-        }
+            1.0,
+            2,
+            1,
+        )
     }
 
     #[test]
