@@ -4,11 +4,9 @@
 //! (a few mm). Nothing in the rod model keeps that tail from being pulled
 //! through the last loop: the fabric's tension slides the contact toward
 //! the fixed-`u` end until it falls off. Measured before this term existed:
-//! on an 8x8 linen stitch the last contact came to 2e-8 m from the end
-//! within one relaxation step, leaving a segment whose stretch stiffness
-//! `ks / du` stalled Newton, and a small jacquard lost a contact off its
-//! yarn's start. A designer's pattern never unravels from its tails, so
-//! relaxation must not either (issue 3, acceptance 5).
+//! the 8x8 variant of `fig3-jacquard` lost a contact off its yarn's start
+//! during relaxation. A designer's pattern never unravels from its tails,
+//! so relaxation must not either (issue 3, acceptance 5).
 //!
 //! The stop is the parallel-contact penalty (`rod::parallel`) between the
 //! end's fixed `u` and the outermost contact point's `u`, at a distance of
