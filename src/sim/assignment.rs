@@ -20,7 +20,8 @@ pub struct AssignParams {
     /// `false` disables EIL entirely (plain EoL), to show why EIL matters.
     pub enable_eil: bool,
     /// An EIL point turns real again only once it is this fraction of the
-    /// rest segment from the previous real point (hysteresis; at least
+    /// rest segment from the previous real point and from the next point
+    /// that stays real (hysteresis; at least
     /// `safety_fraction`). Without it a point hovering at the safety
     /// distance flips kind every step, and every flip restarts Newton from
     /// a perturbed state.
