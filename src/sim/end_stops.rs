@@ -23,15 +23,10 @@ use crate::topology::PointRef;
 /// The stops of every yarn end that has a contact: `(stencil, [u_lo, u_hi])`.
 pub fn end_stops(disc: &Discretization, p: &SimParams) -> (Vec<ParallelContact>, Vec<[u32; 2]>) {
     let (f, l) = (disc.f, disc.l);
-    let mut is_contact = vec![false; l.n_points()];
-    for c in &f.contacts {
-        is_contact[l.point(c.front)] = true;
-        is_contact[l.point(c.back)] = true;
-    }
     let (mut t, mut d) = (vec![], vec![]);
     for (y, ord) in disc.a.order.iter().enumerate() {
         let pts = &f.yarns[y].points;
-        let contact = |pi: &&usize| is_contact[l.point(PointRef { yarn: y, point: **pi })];
+        let contact = |pi: &&usize| disc.is_contact_point(PointRef { yarn: y, point: **pi });
         let (Some(&start), Some(&end)) = (ord.first(), ord.last()) else {
             continue;
         };

@@ -98,6 +98,11 @@ impl<'a> Discretization<'a> {
         }
     }
 
+    /// Whether a yarn point belongs to a contact (its node is a contact's).
+    pub fn is_contact_point(&self, p: PointRef) -> bool {
+        self.contact_at_node[self.node(p.yarn, p.point)].is_some()
+    }
+
     fn node(&self, y: usize, p: usize) -> usize {
         self.f.yarns[y].points[p].node
     }
