@@ -15,6 +15,19 @@
 //!   (Dembo, Eisenstat & Steihaug 1982): the gradient and energy are
 //!   recomputed in f64 each iteration and the line search rejects a step
 //!   that does not decrease the f64 energy.
+//! - **Mixed-precision iterative refinement.** An f32 solve is accurate to
+//!   about 1e-5, and with friction that is not good enough: the Coulomb
+//!   anchors are updated from each step's end state, so a relaxation driven
+//!   by inexact steps settles on a different (equally valid) equilibrium.
+//!   Relaxing the 4x4 stockinette swatch with CPU CG at `|r| <= 1e-5 |b|`
+//!   ends 2.3 yarn radii RMS away from cpu-direct; at 1e-8, 1.4% of a
+//!   radius; at 1e-11, 7e-8 of a radius (docs/GPU.md, "Parity test"). So
+//!   after the f32 solve the residual `b - A x` is formed in f64 on the CPU,
+//!   the f32 solver solves for the correction, and this repeats until the
+//!   f64 residual is below [`GpuLinearParams::refine_tol`] (classic
+//!   iterative refinement: each round gains the f32 solve's accuracy as
+//!   long as `cond(A) * 1e-7` is well below 1). Setting `refine_tol` to 0
+//!   or `max_refinements` to 0 gives the plain inexact Newton step.
 //! - **A stopped CG is not an error.** Like the CPU CG, an unconverged or
 //!   broken-down solve returns its iterate; Newton checks that it is a
 //!   descent direction and otherwise falls back to steepest descent.
@@ -30,6 +43,10 @@ pub struct GpuLinearParams {
     pub max_iter: usize,
     /// CG iterations between scalar readbacks (see `gpu::pcg`, "Readback policy").
     pub check_every: usize,
+    /// Iterative refinement target on the f64 residual `|b - A x| <= refine_tol |b|`.
+    pub refine_tol: f64,
+    /// Refinement rounds (extra f32 solves) at most per Newton solve.
+    pub max_refinements: usize,
 }
 
 impl Default for GpuLinearParams {
@@ -39,6 +56,8 @@ impl Default for GpuLinearParams {
             rel_tol: 1e-5,
             max_iter: 10_000,
             check_every: pcg.check_every,
+            refine_tol: 1e-10,
+            max_refinements: 6,
         }
     }
 }
@@ -49,6 +68,8 @@ pub struct GpuSolveStats {
     pub iterations: usize,
     pub rel_residual: f64,
     pub converged: bool,
+    /// Refinement rounds after the first solve.
+    pub refinements: usize,
     /// The pattern changed and the device buffers were rebuilt for this solve.
     pub rebound: bool,
 }
@@ -121,13 +142,81 @@ impl GpuSolver {
         };
         let (solution, stats) = pcg.solve(b, x, &params)?;
         x.copy_from_slice(&solution);
+        let mut iterations = stats.iterations;
+        // Refining an f32 solve that did not converge would repeat its cost
+        // for a correction no better than itself.
+        let (refinements, rel_residual) = if stats.converged {
+            self.refine(a, b, x, &params, &mut iterations)?
+        } else {
+            (0, None)
+        };
         Ok(GpuSolveStats {
-            iterations: stats.iterations,
-            rel_residual: stats.rel_residual,
-            converged: stats.converged,
+            iterations,
+            rel_residual: rel_residual.unwrap_or(stats.rel_residual),
+            converged: stats.converged || rel_residual.is_some_and(|r| r <= self.params.rel_tol),
+            refinements,
             rebound,
         })
     }
+}
+
+impl GpuSolver {
+    /// Iterative refinement of `x` (see the module docs). Returns the rounds
+    /// made and the final f64 relative residual (None when refinement is off).
+    /// Stops early when a round fails to cut the residual tenfold (the f32
+    /// matrix is then so ill-conditioned that refinement converges slowly,
+    /// each round at the cost of a full solve) or its
+    /// f32 solve did not converge; the best iterate so far is kept.
+    fn refine(
+        &mut self,
+        a: &CsrMatrix,
+        b: &[f64],
+        x: &mut [f64],
+        params: &GpuPcgParams,
+        iterations: &mut usize,
+    ) -> Result<(usize, Option<f64>), GpuError> {
+        if self.params.max_refinements == 0 || self.params.refine_tol <= 0.0 {
+            return Ok((0, None));
+        }
+        let pcg = self.pcg.as_ref().expect("refine runs after a solve");
+        let b_norm = norm(b).max(f64::MIN_POSITIVE);
+        let mut r = vec![0.0; a.n];
+        let mut rel = residual(a, b, x, &mut r) / b_norm;
+        let zero = vec![0.0; a.n];
+        let mut rounds = 0;
+        while rel > self.params.refine_tol && rounds < self.params.max_refinements {
+            let (dx, stats) = pcg.solve(&r, &zero, params)?;
+            *iterations += stats.iterations;
+            rounds += 1;
+            let trial: Vec<f64> = x.iter().zip(&dx).map(|(xi, di)| xi + di).collect();
+            let mut r_trial = vec![0.0; a.n];
+            let rel_trial = residual(a, b, &trial, &mut r_trial) / b_norm;
+            if !(rel_trial < rel) {
+                break;
+            }
+            x.copy_from_slice(&trial);
+            r = r_trial;
+            let contracted = rel_trial <= 0.1 * rel;
+            rel = rel_trial;
+            if !contracted || !stats.converged {
+                break;
+            }
+        }
+        Ok((rounds, Some(rel)))
+    }
+}
+
+/// `r = b - A x` in f64; returns `|r|`.
+fn residual(a: &CsrMatrix, b: &[f64], x: &[f64], r: &mut [f64]) -> f64 {
+    a.mul_vec(x, r);
+    for (ri, bi) in r.iter_mut().zip(b) {
+        *ri = bi - *ri;
+    }
+    norm(r)
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 /// Increasing starts from 0 to n with blocks of 1..=4 unknowns.
