@@ -16,6 +16,7 @@ pub mod inertia;
 pub mod params;
 pub mod problem;
 pub mod relax;
+pub mod removal;
 pub mod simulation;
 pub mod system;
 pub mod transfer;

@@ -52,6 +52,9 @@ pub struct SimParams {
     /// and free. See `sim::contact_terms`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactParams>,
+    /// Remove a contact once its `u` leaves a yarn (`sim::removal`); a
+    /// check per contact point per step, and a rebuild only when it fires.
+    pub remove_slid_off: bool,
 }
 
 impl Default for SimParams {
@@ -63,6 +66,7 @@ impl Default for SimParams {
             obstacles: Vec::new(),
             obstacle_stiffness: 1e5,
             contact: None,
+            remove_slid_off: true,
         }
     }
 }

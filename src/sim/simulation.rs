@@ -4,8 +4,9 @@
 //! that come back from EIL from the contact constraint, build the stencils,
 //! and minimise the incremental potential with Newton. A failed solve halves
 //! the step and retries; successes let it grow back (MODEL.md sec. 4).
-//! The Coulomb limits of the friction springs are taken from the state at
-//! the start of each step; after an accepted step the anchors move to where
+//! Contacts whose `u` left a yarn are removed before the assignment
+//! (`sim::removal`). The Coulomb limits of the friction springs are taken
+//! from the state at the start of each step; after an accepted step the anchors move to where
 //! the capped springs' return mapping left them (see `sim::friction`).
 
 use super::assignment::{assign, assign_after, free_mask, Assignment};
@@ -62,6 +63,8 @@ pub struct Simulation {
     pub time: f64,
     /// Barrier stiffness and gap carried between steps (contact on only).
     pub contact: ContactState,
+    /// Contacts removed so far because their `u` left a yarn (`sim::removal`).
+    pub removed: Vec<super::removal::RemovedContact>,
 }
 
 impl Simulation {
@@ -90,6 +93,7 @@ impl Simulation {
             h_max: h,
             time: 0.0,
             contact: ContactState::default(),
+            removed: Vec::new(),
         }
     }
 
@@ -140,6 +144,9 @@ impl Simulation {
         cancel: Option<&AtomicBool>,
         on_iter: &mut dyn FnMut(&IterStats, usize),
     ) -> Result<StepReport, SimError> {
+        if self.params.remove_slid_off {
+            self.remove_slid_off();
+        }
         self.reassign();
         self.friction_limits = coulomb_limits(
             &self.fabric,

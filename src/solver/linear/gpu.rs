@@ -191,7 +191,7 @@ impl GpuSolver {
             let trial: Vec<f64> = x.iter().zip(&dx).map(|(xi, di)| xi + di).collect();
             let mut r_trial = vec![0.0; a.n];
             let rel_trial = residual(a, b, &trial, &mut r_trial) / b_norm;
-            if !(rel_trial < rel) {
+            if rel_trial.is_nan() || rel_trial >= rel {
                 break;
             }
             x.copy_from_slice(&trial);
