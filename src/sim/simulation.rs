@@ -6,8 +6,9 @@
 //! the step and retries; successes let it grow back (MODEL.md sec. 4).
 //! Contacts whose `u` left a yarn are removed before the assignment
 //! (`sim::removal`). The Coulomb limits of the friction springs are taken
-//! from the state at the start of each step; after an accepted step the anchors move to where
-//! the capped springs' return mapping left them (see `sim::friction`).
+//! from the state at the start of each step; after an accepted step the
+//! anchors move to where the capped springs' return mapping left them (see
+//! `sim::friction`).
 
 use super::assignment::{assign, assign_after, free_mask, Assignment};
 use super::contact_terms::{self, ContactState, ContactTerms};

@@ -26,7 +26,7 @@
 //!   the f32 solver solves for the correction, and this repeats until the
 //!   f64 residual is below [`GpuLinearParams::refine_tol`] (classic
 //!   iterative refinement: each round gains the f32 solve's accuracy as
-//!   long as `cond(A) * 1e-7` is well below 1). Setting `refine_tol` to 0
+//!   long as `cond(A)` times the f32 unit roundoff, 6e-8, is well below 1). Setting `refine_tol` to 0
 //!   or `max_refinements` to 0 gives the plain inexact Newton step.
 //! - **A stopped CG is not an error.** Like the CPU CG, an unconverged or
 //!   broken-down solve returns its iterate; Newton checks that it is a
@@ -158,15 +158,13 @@ impl GpuSolver {
             rebound,
         })
     }
-}
 
-impl GpuSolver {
     /// Iterative refinement of `x` (see the module docs). Returns the rounds
     /// made and the final f64 relative residual (None when refinement is off).
-    /// Stops early when a round fails to cut the residual tenfold (the f32
-    /// matrix is then so ill-conditioned that refinement converges slowly,
-    /// each round at the cost of a full solve) or its
-    /// f32 solve did not converge; the best iterate so far is kept.
+    /// Stops early when a round fails to cut the residual tenfold (the
+    /// system is then so ill-conditioned that refinement converges slowly,
+    /// each round at the cost of a full solve) or when its f32 solve did not
+    /// converge; the best iterate so far is kept.
     fn refine(
         &mut self,
         a: &CsrMatrix,
