@@ -51,6 +51,8 @@ pub struct RelaxOutcome {
     pub wall_s: f64,
     pub rows: Vec<CsvRow>,
     pub fabric: Fabric,
+    /// Contacts removed because a yarn was pulled out of them (`sim::removal`).
+    pub removed_contacts: usize,
 }
 
 /// Runs the relaxation and writes all outputs. `on_step(step, residual)`
@@ -100,6 +102,7 @@ pub fn run_relax(
         wall_s,
         rows,
         fabric: out,
+        removed_contacts: sim.removed.len(),
     })
 }
 

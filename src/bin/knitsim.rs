@@ -221,6 +221,12 @@ fn relax(
         r.max_eil,
         out.display()
     );
+    if outcome.removed_contacts > 0 {
+        println!(
+            "{} contact(s) removed: a yarn was pulled out of them (scene key remove_slid_off)",
+            outcome.removed_contacts
+        );
+    }
     let state = if r.converged {
         "converged"
     } else if r.cancelled {
