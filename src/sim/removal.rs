@@ -112,18 +112,16 @@ impl Simulation {
             })
             .collect();
         for (y, k) in f.yarns.iter_mut().zip(&keep) {
-            let mut it = k.iter();
-            y.points.retain(|_| *it.next().unwrap());
+            retain_mask(&mut y.points, k);
         }
-        let drop: Vec<bool> = (0..f.contacts.len())
-            .map(|k| found.iter().any(|&(r, _)| r == k))
+        let keep_contact: Vec<bool> = (0..f.contacts.len())
+            .map(|k| !found.iter().any(|&(r, _)| r == k))
             .collect();
         let removed_nodes: Vec<usize> = (0..f.contacts.len())
-            .filter(|&k| drop[k])
+            .filter(|&k| !keep_contact[k])
             .map(|k| f.contacts[k].node)
             .collect();
-        let mut it = drop.iter();
-        f.contacts.retain(|_| !*it.next().unwrap());
+        retain_mask(&mut f.contacts, &keep_contact);
         for c in &mut f.contacts {
             for p in [&mut c.front, &mut c.back] {
                 p.point = new_index[p.yarn][p.point].expect("a kept contact's points are kept");
@@ -139,10 +137,8 @@ impl Simulation {
                 time: self.time,
             });
         }
-        let mut it = drop.iter();
-        self.rest.wrap_rest.retain(|_| !*it.next().unwrap());
-        let mut it = drop.iter();
-        self.rest.shear_rest.retain(|_| !*it.next().unwrap());
+        retain_mask(&mut self.rest.wrap_rest, &keep_contact);
+        retain_mask(&mut self.rest.shear_rest, &keep_contact);
         self.rebuild(f, &old_layout, &new_index);
         found.len()
     }
@@ -174,6 +170,12 @@ impl Simulation {
         self.v = v;
         self.anchors = anchors;
     }
+}
+
+/// Keeps the elements whose `keep` entry is true.
+fn retain_mask<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut it = keep.iter();
+    v.retain(|_| *it.next().expect("one mask entry per element"));
 }
 
 #[cfg(test)]
