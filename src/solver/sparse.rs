@@ -61,11 +61,24 @@ impl CsrMatrix {
         }
     }
 
+    /// r = b - A x
+    pub fn residual(&self, x: &[f64], b: &[f64], r: &mut [f64]) {
+        self.mul_vec(x, r);
+        for (ri, bi) in r.iter_mut().zip(b) {
+            *ri = bi - *ri;
+        }
+    }
+
     pub fn diagonal(&self) -> Vec<f64> {
         (0..self.n)
             .map(|r| self.find(r, r).map_or(0.0, |k| self.values[k]))
             .collect()
     }
+}
+
+/// Euclidean inner product of two vectors of the global system.
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! so the preconditioner knows nothing of the EoL layout. The GPU solver
 //! implements exactly this algorithm in f32; this f64 version is its reference.
 
-use crate::solver::sparse::CsrMatrix;
+use crate::solver::sparse::{dot, CsrMatrix};
 use nalgebra::DMatrix;
 
 /// Inverted diagonal blocks of a symmetric matrix.
@@ -103,18 +103,11 @@ pub struct CgResult {
     pub converged: bool,
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
 /// Solves `A x = b` for symmetric positive (semi-)definite `A`, starting from `x`.
 pub fn pcg(a: &CsrMatrix, b: &[f64], x: &mut [f64], pre: &BlockJacobi, p: CgParams) -> CgResult {
     let n = a.n;
     let mut r = vec![0.0; n];
-    a.mul_vec(x, &mut r);
-    for i in 0..n {
-        r[i] = b[i] - r[i];
-    }
+    a.residual(x, b, &mut r);
     let bn = dot(b, b).sqrt().max(f64::MIN_POSITIVE);
     let mut z = vec![0.0; n];
     pre.apply(&r, &mut z);

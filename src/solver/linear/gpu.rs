@@ -33,7 +33,7 @@
 //!   descent direction and otherwise falls back to steepest descent.
 
 use crate::gpu::{AdapterSummary, GpuContext, GpuError, GpuPcg, GpuPcgParams};
-use crate::solver::sparse::CsrMatrix;
+use crate::solver::sparse::{dot, CsrMatrix};
 
 /// Tuning of the GPU Newton solve.
 #[derive(Clone, Copy, Debug)]
@@ -206,15 +206,12 @@ impl GpuSolver {
 
 /// `r = b - A x` in f64; returns `|r|`.
 fn residual(a: &CsrMatrix, b: &[f64], x: &[f64], r: &mut [f64]) -> f64 {
-    a.mul_vec(x, r);
-    for (ri, bi) in r.iter_mut().zip(b) {
-        *ri = bi - *ri;
-    }
+    a.residual(x, b, r);
     norm(r)
 }
 
 fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+    dot(v, v).sqrt()
 }
 
 /// Increasing starts from 0 to n with blocks of 1..=4 unknowns.

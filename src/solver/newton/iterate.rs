@@ -5,13 +5,9 @@ use super::{
 };
 use crate::solver::line_search::{backtracking_armijo, LineSearchStep};
 use crate::solver::linear::LinearSolver;
-use crate::solver::sparse::CsrMatrix;
+use crate::solver::sparse::{dot, CsrMatrix};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
 
 /// `v^T H v`.
 fn curvature(h: &CsrMatrix, v: &[f64], scratch: &mut [f64]) -> f64 {
