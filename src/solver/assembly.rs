@@ -15,6 +15,13 @@
 //!   up once, per stencil, where each of its `N*N` local entries lives in
 //!   `CsrMatrix::values`. Every Newton iteration then scatters without a
 //!   search.
+//! - **Parallel evaluation, serial scatter.** Stencils are evaluated in
+//!   blocks, each block split across threads ([`threads`]); their results
+//!   are then scattered, and energies summed, in stencil order on one
+//!   thread. So the assembled system is bit-identical for any thread
+//!   count: a run is reproducible on any machine, and evaluating (which is
+//!   where the time goes: PSD projection, bending, wrapping jets) still
+//!   uses every core.
 //! - **Type erasure per set.** A [`StencilSet`] is generic over its stencil
 //!   type and size; [`AnyStencilSet`] hides both so the caller holds all
 //!   energies in one `Vec<Box<dyn AnyStencilSet>>`.
@@ -23,7 +30,67 @@
 
 use crate::energy::Stencil;
 use crate::solver::sparse::CsrMatrix;
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
+use std::sync::OnceLock;
+
+/// Stencils one thread evaluates per block; large enough that a block
+/// (milliseconds) dwarfs the cost of spawning its scoped threads.
+const PER_THREAD: usize = 256;
+
+/// Threads that evaluate stencils: `KNITSIM_THREADS` if set, else the
+/// machine's available parallelism. Results do not depend on it.
+pub fn threads() -> usize {
+    static THREADS: OnceLock<usize> = OnceLock::new();
+    *THREADS.get_or_init(|| {
+        std::env::var("KNITSIM_THREADS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+            .max(1)
+    })
+}
+
+/// `f(k)` for every `k` in `0..n`, in order, evaluated block by block on
+/// [`threads`] threads; `emit` receives each block's results in order.
+fn for_each_block<T: Send, F>(n: usize, f: F, emit: impl FnMut(usize, &[T]))
+where
+    F: Fn(usize) -> T + Sync,
+{
+    for_each_block_on(threads(), n, f, emit)
+}
+
+/// [`for_each_block`] on `workers` threads.
+fn for_each_block_on<T: Send, F>(workers: usize, n: usize, f: F, mut emit: impl FnMut(usize, &[T]))
+where
+    F: Fn(usize) -> T + Sync,
+{
+    let block = workers.max(1) * PER_THREAD;
+    let mut out: Vec<T> = Vec::with_capacity(block);
+    for start in (0..n).step_by(block) {
+        let end = (start + block).min(n);
+        let parts: Vec<Vec<T>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = (start..end)
+                .step_by(PER_THREAD)
+                .skip(1)
+                .map(|a| {
+                    let f = &f;
+                    scope.spawn(move || (a..(a + PER_THREAD).min(end)).map(f).collect::<Vec<T>>())
+                })
+                .collect();
+            let first: Vec<T> = (start..(start + PER_THREAD).min(end)).map(&f).collect();
+            std::iter::once(first)
+                .chain(
+                    handles
+                        .into_iter()
+                        .map(|h| h.join().expect("stencil evaluation panicked")),
+                )
+                .collect()
+        });
+        out.clear();
+        parts.into_iter().for_each(|p| out.extend(p));
+        emit(start, &out);
+    }
+}
 
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum AssemblyError {
@@ -97,7 +164,7 @@ impl<S: Stencil<N>, const N: usize> StencilSet<S, N> {
     }
 }
 
-impl<S: Stencil<N>, const N: usize> AnyStencilSet for StencilSet<S, N> {
+impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
     fn name(&self) -> &str {
         &self.name
     }
@@ -154,11 +221,12 @@ impl<S: Stencil<N>, const N: usize> AnyStencilSet for StencilSet<S, N> {
     }
 
     fn energy(&self, q: &[f64]) -> f64 {
-        self.stencils
-            .iter()
-            .zip(&self.dofs)
-            .map(|(s, d)| s.value(&Self::gather(q, d)))
-            .sum()
+        let value = |k: usize| self.stencils[k].value(&Self::gather(q, &self.dofs[k]));
+        let mut total = 0.0;
+        for_each_block(self.stencils.len(), value, |_, values: &[f64]| {
+            total = values.iter().fold(total, |t, v| t + v);
+        });
+        total
     }
 
     fn accumulate(
@@ -172,23 +240,26 @@ impl<S: Stencil<N>, const N: usize> AnyStencilSet for StencilSet<S, N> {
         if !self.is_bound_to(h) {
             return Err(AssemblyError::Unbound { set: self.name.clone() });
         }
-        for (k, (s, d)) in self.stencils.iter().zip(&self.dofs).enumerate() {
-            let x = Self::gather(q, d);
-            let (g, hl) = s.derivatives(&x, project_psd);
-            let slots = &self.slots[k * N * N..(k + 1) * N * N];
-            for i in 0..N {
-                let r = d[i] as usize;
-                if !free[r] {
-                    continue;
-                }
-                grad[r] += g[i];
-                for j in 0..N {
-                    if free[d[j] as usize] {
-                        h.values[slots[i * N + j]] += hl[(i, j)];
+        let derivatives = |k: usize| self.stencils[k].derivatives(&Self::gather(q, &self.dofs[k]), project_psd);
+        let scatter = |start: usize, block: &[(SVector<f64, N>, SMatrix<f64, N, N>)]| {
+            for (k, (g, hl)) in (start..).zip(block) {
+                let d = &self.dofs[k];
+                let slots = &self.slots[k * N * N..(k + 1) * N * N];
+                for i in 0..N {
+                    let r = d[i] as usize;
+                    if !free[r] {
+                        continue;
+                    }
+                    grad[r] += g[i];
+                    for j in 0..N {
+                        if free[d[j] as usize] {
+                            h.values[slots[i * N + j]] += hl[(i, j)];
+                        }
                     }
                 }
             }
-        }
+        };
+        for_each_block(self.stencils.len(), derivatives, scatter);
         Ok(())
     }
 }

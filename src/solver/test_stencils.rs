@@ -5,6 +5,7 @@ use crate::energy::Stencil;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 /// `k/2 (|a - b| - rest)^2` on two 3D points `(a, b)`.
+#[derive(Clone, Copy)]
 pub struct Spring {
     pub k: f64,
     pub rest: f64,
