@@ -69,6 +69,10 @@ pub struct NewtonParams {
     pub rel_residual_tol: f64,
     /// Floor of the residual normalisation, so a start at equilibrium stops at once.
     pub residual_floor: f64,
+    /// Stop when the largest free gradient entry is at most this (force
+    /// units); 0 = off. The caller's own equilibrium test, checked at every
+    /// iterate instead of only where the solve ends.
+    pub max_force_tol: f64,
     /// A direction is "descent" if `-g.dq >= descent_cos * |g| |dq|`.
     pub descent_cos: f64,
     /// Smallest nonzero Levenberg-Marquardt damping, relative to the mean free |H_ii|.
@@ -87,6 +91,7 @@ impl Default for NewtonParams {
             decrement_tol: 1e-12,
             rel_residual_tol: 1e-8,
             residual_floor: 1e-12,
+            max_force_tol: 0.0,
             descent_cos: 1e-10,
             damping_min: 1e-6,
             damping_max: 1e6,

@@ -89,7 +89,8 @@ pub fn minimize<P: Problem + ?Sized>(
             linear_iterations: 0,
             line_search_trials: 0,
         };
-        let outcome = if rel_residual < params.rel_residual_tol {
+        let max_force = w.g.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let outcome = if rel_residual < params.rel_residual_tol || max_force <= params.max_force_tol {
             Some(NewtonStatus::Converged(Converged::Residual))
         } else {
             add_damping(&mut h, &diag_slots, damping);
