@@ -23,8 +23,8 @@
 //! testing only at step ends missed iterates that were already in
 //! equilibrium. Measured (`bench_relax --case`): linen stitch 8x8 160 -> 57
 //! Newton iterations, 20x20 520 -> 196; stockinette 8x8 80 -> 53, 12x12
-//! 140 -> 54; linen 12x12, 40x40 and stockinette 20x20 unchanged (100,
-//! 120, 80).
+//! 140 -> 54, 40x40 400 -> 34; linen 12x12, 40x40 and stockinette 20x20
+//! unchanged (100, 120, 80).
 
 use super::simulation::{SimError, Simulation};
 use crate::solver::newton::IterStats;
