@@ -53,6 +53,9 @@ pub struct RelaxOutcome {
     pub fabric: Fabric,
     /// Contacts removed because a yarn was pulled out of them (`sim::removal`).
     pub removed_contacts: usize,
+    /// Points whose kind the next re-assignment would change
+    /// (`Simulation::pending_kind_changes`).
+    pub pending_kind_changes: usize,
 }
 
 /// Runs the relaxation and writes all outputs. `on_step(step, residual)`
@@ -103,6 +106,7 @@ pub fn run_relax(
         rows,
         fabric: out,
         removed_contacts: sim.removed.len(),
+        pending_kind_changes: sim.pending_kind_changes(),
     })
 }
 

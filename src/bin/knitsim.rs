@@ -227,6 +227,13 @@ fn relax(
             outcome.removed_contacts
         );
     }
+    if outcome.pending_kind_changes > 0 {
+        println!(
+            "{} point(s) would change kind (real/EIL) at the next re-assignment: the state is an \
+             equilibrium of its own discretization (docs/RELAX.md)",
+            outcome.pending_kind_changes
+        );
+    }
     let state = if r.converged {
         "converged"
     } else if r.cancelled {

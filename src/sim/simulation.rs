@@ -122,17 +122,35 @@ impl Simulation {
         Ok(g.iter().fold(0.0f64, |m, v| m.max(v.abs())) / self.params.rod.ks)
     }
 
-    /// Re-assigns EIL points and moves the state so every soft EIL
-    /// constraint starts the step at rest (see `sim::transfer`).
-    fn reassign(&mut self) {
-        let new = assign_after(
+    /// The assignment the next step would start from.
+    fn next_assignment(&self) -> Assignment {
+        assign_after(
             &self.fabric,
             &self.layout,
             &self.q,
             &self.rest.rest_seg,
             self.params.assign,
             Some(&self.assignment),
-        );
+        )
+    }
+
+    /// Points whose kind (real or EIL) the next re-assignment would
+    /// change. A relaxed state is an equilibrium under its current
+    /// assignment; when this is not 0, the next step would start from a
+    /// different discretization (docs/RELAX.md, "Still open").
+    pub fn pending_kind_changes(&self) -> usize {
+        let next = self.next_assignment();
+        next.eil
+            .iter()
+            .zip(&self.assignment.eil)
+            .filter(|(a, b)| a != b)
+            .count()
+    }
+
+    /// Re-assigns EIL points and moves the state so every soft EIL
+    /// constraint starts the step at rest (see `sim::transfer`).
+    fn reassign(&mut self) {
+        let new = self.next_assignment();
         transfer(&self.fabric, &self.layout, &self.assignment, &new, &mut self.q);
         self.assignment = new;
     }
@@ -300,5 +318,50 @@ fn sort_points(f: &mut Fabric, a: &Assignment) {
         for p in [&mut c.front, &mut c.back] {
             p.point = new_index[p.yarn][p.point];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::assignment::tests::crossing_fabric;
+
+    /// Yarn 0's contact point starts 0.21 from a fixed point (rest segment
+    /// 1/3, safety distance 0.033): real, and the assignment holds.
+    fn crossing() -> Simulation {
+        let f = crossing_fabric(
+            &[
+                [0.7, 0.0, 0.0],
+                [0.0, 0.0, 0.0],
+                [0.49, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.7, -0.5, 0.0],
+                [0.7, 0.5, 0.0],
+            ],
+            [
+                &[(1, 0.0, true), (2, 0.49, true), (0, 0.7, false), (3, 1.0, true)],
+                &[(4, 0.0, true), (0, 0.5, false), (5, 1.0, true)],
+            ],
+            1.0,
+            2,
+            1,
+        );
+        Simulation::new(f, SimParams::default(), LinearSolver::direct(), 1e-2)
+    }
+
+    #[test]
+    fn a_contact_slid_next_to_a_fixed_point_is_a_pending_kind_change() {
+        let mut sim = crossing();
+        assert_eq!(sim.pending_kind_changes(), 0);
+        let contact = PointRef { yarn: 0, point: 2 };
+        assert!(!sim.assignment.is_eil(&sim.layout, contact));
+        // Slid to 0.01 from the fixed point at 0.49: the next step would
+        // make it EIL.
+        let u = sim.layout.u(contact);
+        sim.q[u] = 0.5;
+        assert_eq!(sim.pending_kind_changes(), 1);
+        sim.reassign();
+        assert!(sim.assignment.is_eil(&sim.layout, contact));
+        assert_eq!(sim.pending_kind_changes(), 0, "the new assignment holds");
     }
 }
