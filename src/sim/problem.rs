@@ -2,7 +2,9 @@
 //! discretization, the free mask, and the block partition for CG.
 
 use super::contact_terms::ContactTerms;
-use crate::solver::assembly::{assemble, bind_all, hessian_pattern, total_energy, AnyStencilSet, AssemblyError};
+use crate::solver::assembly::{
+    assemble, bind_all, gradient, hessian_pattern, total_energy, AnyStencilSet, AssemblyError,
+};
 use crate::solver::newton::Problem;
 use crate::solver::sparse::CsrMatrix;
 
@@ -57,13 +59,9 @@ impl EolProblem {
         self.sets.iter().map(|s| (s.name().to_string(), s.energy(q))).collect()
     }
 
-    /// Free-row gradient of the potential at `q` (no assembly of the Hessian
-    /// is needed by the caller, but the shared routine fills one).
+    /// Free-row gradient of the potential at `q`.
     pub fn free_gradient(&self, q: &[f64]) -> Result<Vec<f64>, AssemblyError> {
-        let mut g = vec![0.0; q.len()];
-        let mut h = self.pattern.clone();
-        assemble(&self.sets, q, &self.free, &mut g, &mut h, false)?;
-        Ok(g)
+        Ok(gradient(&self.sets, q, &self.free))
     }
 }
 

@@ -120,6 +120,8 @@ pub trait AnyStencilSet {
     fn bind(&mut self, h: &CsrMatrix) -> Result<(), AssemblyError>;
     /// Sum of the stencil values at `q`.
     fn energy(&self, q: &[f64]) -> f64;
+    /// Adds the gradient into the free rows only; needs no binding.
+    fn gradient(&self, q: &[f64], free: &[bool], grad: &mut [f64]);
     /// Adds gradient and Hessian into the free rows and columns only.
     fn accumulate(
         &self,
@@ -229,6 +231,20 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
         total
     }
 
+    fn gradient(&self, q: &[f64], free: &[bool], grad: &mut [f64]) {
+        let gradient = |k: usize| self.stencils[k].gradient(&Self::gather(q, &self.dofs[k]));
+        let scatter = |start: usize, block: &[SVector<f64, N>]| {
+            for (k, g) in (start..).zip(block) {
+                for (i, &r) in self.dofs[k].iter().enumerate() {
+                    if free[r as usize] {
+                        grad[r as usize] += g[i];
+                    }
+                }
+            }
+        };
+        for_each_block(self.stencils.len(), gradient, scatter);
+    }
+
     fn accumulate(
         &self,
         q: &[f64],
@@ -282,6 +298,16 @@ pub fn bind_all(sets: &mut [Box<dyn AnyStencilSet>], h: &CsrMatrix) -> Result<()
 /// Total energy of all sets at `q`.
 pub fn total_energy(sets: &[Box<dyn AnyStencilSet>], q: &[f64]) -> f64 {
     sets.iter().map(|s| s.energy(q)).sum()
+}
+
+/// Free-row gradient of all sets at `q`, fixed rows zero: what [`assemble`]
+/// puts in `grad`, without the Hessian (no pattern or binding needed).
+pub fn gradient(sets: &[Box<dyn AnyStencilSet>], q: &[f64], free: &[bool]) -> Vec<f64> {
+    let mut grad = vec![0.0; q.len()];
+    for s in sets {
+        s.gradient(q, free, &mut grad);
+    }
+    grad
 }
 
 /// Zeroes `grad` and `h`, sums every set, then cancels the fixed rows.

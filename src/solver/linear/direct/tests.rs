@@ -1,4 +1,5 @@
 use super::*;
+use crate::solver::sparse::dot;
 use nalgebra::{DMatrix, DVector};
 
 /// 2D 5-point Laplacian on an `m x m` grid plus `shift` on the diagonal.
@@ -107,4 +108,26 @@ fn indefinite_uses_ldlt_when_shifts_disabled() {
     assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Ldlt);
     let exact = dense(&a).lu().solve(&DVector::from_vec(b)).unwrap();
     assert!(max_err(&x, &exact) < 1e-9);
+}
+
+#[test]
+fn the_rayon_pool_and_the_sequential_path_solve_the_same_system() {
+    // Large enough for supernodes, so the pool actually splits work.
+    let a = grid_laplacian(60, 0.1);
+    let b: Vec<f64> = (0..a.n).map(|i| (0.37 * i as f64).cos()).collect();
+    let mut seq = DirectSolver::default();
+    assert!(!seq.params.parallel);
+    let mut par = DirectSolver::new(DirectParams {
+        parallel: true,
+        ..Default::default()
+    });
+    let (mut xs, mut xp) = (vec![0.0; a.n], vec![0.0; a.n]);
+    assert_eq!(seq.solve(&a, &b, &mut xs).unwrap(), FactorKind::Llt);
+    assert_eq!(par.solve(&a, &b, &mut xp).unwrap(), FactorKind::Llt);
+    let scale = xs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = xs.iter().zip(&xp).fold(0.0f64, |m, (s, p)| m.max((s - p).abs()));
+    assert!(diff <= 1e-12 * scale, "diff {diff:e}, scale {scale:e}");
+    let mut r = vec![0.0; a.n];
+    a.residual(&xs, &b, &mut r);
+    assert!(dot(&r, &r).sqrt() <= 1e-10 * dot(&b, &b).sqrt());
 }
