@@ -9,6 +9,13 @@
 //! own. Not a test. Run with
 //! `cargo run --release --no-default-features --example bench_relax -- [SIZES]`
 //! where SIZES defaults to `20,40` (add 80 for the full table: minutes).
+//!
+//! `-- --spread SIZES SEEDS` measures how much the iteration counts move
+//! under perturbations far below any physical scale: each case is run
+//! unperturbed and with SEEDS-1 seeded jitters of every compiled node
+//! position by up to 1 nm (the yarn radius is 0.75 mm). The float
+//! patterns' counts depend on rounding (docs/RELAX.md), so a single count
+//! is one sample of a spread; this prints the spread.
 
 use knitsim::pattern::parse_str;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
@@ -22,7 +29,11 @@ const PATTERNS: [&str; 2] = ["stockinette", "linen-stitch"];
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     if args.get(1).map(String::as_str) == Some("--case") {
-        return run_case(&args[2], args[3].parse()?);
+        let seed = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(0);
+        return run_case(&args[2], args[3].parse()?, seed);
+    }
+    if args.get(1).map(String::as_str) == Some("--spread") {
+        return spread(&args[0], &args[2], args[3].parse()?);
     }
     let sizes: Vec<usize> = args
         .get(1)
@@ -70,8 +81,78 @@ fn main() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One case, printed as a table row.
-fn run_case(name: &str, n: usize) -> anyhow::Result<()> {
+/// Per case, the Newton iterations and seconds of `seeds` runs (seed 0
+/// unperturbed), then their median.
+fn spread(exe: &str, sizes: &str, seeds: u64) -> anyhow::Result<()> {
+    println!("| pattern | stitches | Newton its per seed | median its | seconds per seed | median s |");
+    println!("|---|---|---|---|---|---|");
+    for name in PATTERNS {
+        for n in sizes.split(',') {
+            let (mut its, mut secs) = (Vec::new(), Vec::new());
+            for seed in 0..seeds.max(1) {
+                let out = Command::new(exe)
+                    .args(["--case", name, n, &seed.to_string()])
+                    .output()?;
+                let row = String::from_utf8_lossy(&out.stdout);
+                let cols: Vec<&str> = row.split('|').map(str::trim).collect();
+                match (
+                    cols.get(5).map(|c| c.parse::<usize>()),
+                    cols.get(6).map(|c| c.parse::<f64>()),
+                ) {
+                    (Some(Ok(i)), Some(Ok(s))) if out.status.success() && !row.contains("not converged") => {
+                        its.push(i.to_string());
+                        secs.push(s);
+                    }
+                    _ => {
+                        its.push("failed".into());
+                        secs.push(f64::NAN);
+                    }
+                }
+            }
+            let mut sorted: Vec<usize> = its.iter().filter_map(|i| i.parse().ok()).collect();
+            sorted.sort_unstable();
+            let mut s_sorted: Vec<f64> = secs.iter().copied().filter(|s| s.is_finite()).collect();
+            s_sorted.sort_by(f64::total_cmp);
+            let med = |v: &[usize]| v.get(v.len() / 2).map_or("-".into(), |m| m.to_string());
+            let med_s = s_sorted
+                .get(s_sorted.len() / 2)
+                .map_or("-".into(), |m| format!("{m:.2}"));
+            let secs: Vec<String> = secs.iter().map(|s| format!("{s:.2}")).collect();
+            println!(
+                "| {name} | {n}x{n} | {} | {} | {} | {med_s} |",
+                its.join(", "),
+                med(&sorted),
+                secs.join(", ")
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Moves every node by up to `1e-9` m per coordinate, from a splitmix64
+/// stream of `seed` (0: no jitter), so runs are repeatable.
+fn jitter(fabric: &mut knitsim::topology::Fabric, seed: u64) {
+    if seed == 0 {
+        return;
+    }
+    let mut state = seed;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for node in &mut fabric.nodes {
+        for k in 0..3 {
+            node.x[k] += 1e-9 * next();
+        }
+    }
+}
+
+/// One case, printed as a table row; `seed` as in [`jitter`].
+fn run_case(name: &str, n: usize, seed: u64) -> anyhow::Result<()> {
     let path = format!("{}/patterns/{name}.knit", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path)?;
     let text: String = text
@@ -88,7 +169,8 @@ fn run_case(name: &str, n: usize) -> anyhow::Result<()> {
         .collect::<Vec<_>>()
         .join("\n");
     let parsed = parse_str(&text, &path)?;
-    let fabric = compile(&parsed.pattern, &CompileOptions::default())?;
+    let mut fabric = compile(&parsed.pattern, &CompileOptions::default())?;
+    jitter(&mut fabric, seed);
     let nodes = fabric.nodes.len();
     let opts = RelaxOptions::default();
     let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);

@@ -59,25 +59,54 @@ where
     for_each_block_on(threads(), n, f, emit)
 }
 
-/// [`for_each_block`] on `workers` threads.
-fn for_each_block_on<T: Send, F>(workers: usize, n: usize, f: F, mut emit: impl FnMut(usize, &[T]))
+/// [`for_each_block`] for results that are small (an energy, a gradient):
+/// one block per thread over the whole range, so each call spawns its
+/// threads once. A line search evaluates energies only, about 0.3 us a
+/// stencil, so `PER_THREAD`-sized blocks would spend a fifth of that in
+/// thread spawns.
+fn for_each_chunk<T: Send, F>(n: usize, f: F, emit: impl FnMut(usize, &[T]))
 where
     F: Fn(usize) -> T + Sync,
 {
-    let block = workers.max(1) * PER_THREAD;
+    let workers = threads();
+    let per_thread = n.div_ceil(workers).max(PER_THREAD);
+    for_each_block_sized(workers, per_thread, n, f, emit)
+}
+
+/// [`for_each_block`] on `workers` threads.
+fn for_each_block_on<T: Send, F>(workers: usize, n: usize, f: F, emit: impl FnMut(usize, &[T]))
+where
+    F: Fn(usize) -> T + Sync,
+{
+    for_each_block_sized(workers, PER_THREAD, n, f, emit)
+}
+
+/// Blocks of `workers * per_thread` results, each thread evaluating
+/// `per_thread` of them; `emit` sees every block in order.
+fn for_each_block_sized<T: Send, F>(
+    workers: usize,
+    per_thread: usize,
+    n: usize,
+    f: F,
+    mut emit: impl FnMut(usize, &[T]),
+) where
+    F: Fn(usize) -> T + Sync,
+{
+    let per_thread = per_thread.max(1);
+    let block = workers.max(1) * per_thread;
     let mut out: Vec<T> = Vec::with_capacity(block);
     for start in (0..n).step_by(block) {
         let end = (start + block).min(n);
         let parts: Vec<Vec<T>> = std::thread::scope(|scope| {
             let handles: Vec<_> = (start..end)
-                .step_by(PER_THREAD)
+                .step_by(per_thread)
                 .skip(1)
                 .map(|a| {
                     let f = &f;
-                    scope.spawn(move || (a..(a + PER_THREAD).min(end)).map(f).collect::<Vec<T>>())
+                    scope.spawn(move || (a..(a + per_thread).min(end)).map(f).collect::<Vec<T>>())
                 })
                 .collect();
-            let first: Vec<T> = (start..(start + PER_THREAD).min(end)).map(&f).collect();
+            let first: Vec<T> = (start..(start + per_thread).min(end)).map(&f).collect();
             std::iter::once(first)
                 .chain(
                     handles
@@ -114,8 +143,9 @@ pub trait AnyStencilSet {
     }
     /// Checks the dof maps against a system of `n` coordinates.
     fn validate(&self, n: usize) -> Result<(), AssemblyError>;
-    /// Appends every (row, col) this set can write, both triangles.
-    fn pattern_entries(&self, out: &mut Vec<(u32, u32)>);
+    /// Local size `N` and the dof maps of all stencils, flattened (`N` per
+    /// stencil): every (row, col) pair within one map is a Hessian entry.
+    fn dof_maps(&self) -> (usize, &[u32]);
     /// Caches the value slot of every local entry in `h` (call after the pattern changes).
     fn bind(&mut self, h: &CsrMatrix) -> Result<(), AssemblyError>;
     /// Sum of the stencil values at `q`.
@@ -193,13 +223,8 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
         }
     }
 
-    fn pattern_entries(&self, out: &mut Vec<(u32, u32)>) {
-        out.reserve(self.dofs.len() * N * N);
-        for d in &self.dofs {
-            for &r in d {
-                out.extend(d.iter().map(|&c| (r, c)));
-            }
-        }
+    fn dof_maps(&self) -> (usize, &[u32]) {
+        (N, self.dofs.as_flattened())
     }
 
     fn bind(&mut self, h: &CsrMatrix) -> Result<(), AssemblyError> {
@@ -225,7 +250,7 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
     fn energy(&self, q: &[f64]) -> f64 {
         let value = |k: usize| self.stencils[k].value(&Self::gather(q, &self.dofs[k]));
         let mut total = 0.0;
-        for_each_block(self.stencils.len(), value, |_, values: &[f64]| {
+        for_each_chunk(self.stencils.len(), value, |_, values: &[f64]| {
             total = values.iter().fold(total, |t, v| t + v);
         });
         total
@@ -242,7 +267,7 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
                 }
             }
         };
-        for_each_block(self.stencils.len(), gradient, scatter);
+        for_each_chunk(self.stencils.len(), gradient, scatter);
     }
 
     fn accumulate(
@@ -283,11 +308,64 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
 /// Hessian pattern of `n` coordinates for the given sets, with every diagonal
 /// entry present so cancelled rows can hold their identity.
 pub fn hessian_pattern(n: usize, sets: &[Box<dyn AnyStencilSet>]) -> CsrMatrix {
-    let mut entries: Vec<(u32, u32)> = (0..n as u32).map(|i| (i, i)).collect();
+    // Two passes over the dof maps straight into CSR storage: count each
+    // row's (duplicated) entries, fill, then sort and deduplicate row by
+    // row. A list of (row, col) pairs would hold every stencil's `N^2`
+    // entries at once (160 MB on a 40x40 linen stitch) before merging.
+    let mut count = vec![1usize; n];
     for s in sets {
-        s.pattern_entries(&mut entries);
+        let (width, maps) = s.dof_maps();
+        for &r in maps {
+            count[r as usize] += width;
+        }
     }
-    CsrMatrix::from_pattern(n, entries)
+    let mut start = Vec::with_capacity(n + 1);
+    start.push(0usize);
+    for c in &count {
+        start.push(start.last().copied().unwrap_or(0) + c);
+    }
+    let mut cols = vec![0u32; start[n]];
+    let mut fill = start[..n].to_vec();
+    for (r, f) in fill.iter_mut().enumerate() {
+        cols[*f] = r as u32;
+        *f += 1;
+    }
+    for s in sets {
+        let (width, maps) = s.dof_maps();
+        for map in maps.chunks_exact(width) {
+            for &r in map {
+                let f = &mut fill[r as usize];
+                cols[*f..*f + width].copy_from_slice(map);
+                *f += width;
+            }
+        }
+    }
+    let mut row_ptr = Vec::with_capacity(n + 1);
+    row_ptr.push(0);
+    let mut len = 0;
+    for r in 0..n {
+        let (a, b) = (start[r], start[r + 1]);
+        cols[a..b].sort_unstable();
+        let mut last = None;
+        for k in a..b {
+            let c = cols[k];
+            if last != Some(c) {
+                cols[len] = c;
+                len += 1;
+                last = Some(c);
+            }
+        }
+        row_ptr.push(len);
+    }
+    cols.truncate(len);
+    cols.shrink_to_fit();
+    let nnz = cols.len();
+    CsrMatrix {
+        n,
+        row_ptr,
+        col_idx: cols,
+        values: vec![0.0; nnz],
+    }
 }
 
 /// Binds every set to `h` (after [`hessian_pattern`] or any pattern change).

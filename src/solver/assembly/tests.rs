@@ -136,6 +136,15 @@ fn blocks_come_back_in_order_for_any_thread_count() {
                 got.extend_from_slice(block);
             });
             assert_eq!(got, serial, "n = {n}, workers = {workers}");
+            // Whole-range chunks (energies, gradients) as well.
+            for per_thread in [1, 5, n.div_ceil(workers).max(1)] {
+                let mut got = Vec::new();
+                for_each_block_sized(workers, per_thread, n, f, |start, block: &[f64]| {
+                    assert_eq!(start, got.len());
+                    got.extend_from_slice(block);
+                });
+                assert_eq!(got, serial, "n = {n}, workers = {workers}, per thread {per_thread}");
+            }
         }
     }
 }
@@ -216,4 +225,35 @@ fn the_gradient_alone_matches_the_assembled_gradient_with_fixed_rows_zero() {
             assert_eq!(*a, 0.0);
         }
     }
+}
+
+#[test]
+fn the_pattern_is_every_pair_within_a_map_plus_the_diagonal() {
+    // Two sets of different widths with repeated and overlapping maps.
+    let springs: Vec<Spring> = (0..40).map(|_| Spring { k: 1.0, rest: 1.0 }).collect();
+    let dofs6: Vec<[u32; 6]> = (0..40u32)
+        .map(|k| {
+            let (a, b) = ((7 * k) % 25, (3 * k + 5) % 25);
+            [3 * a, 3 * a + 1, 3 * a + 2, 3 * b, 3 * b + 1, 3 * b + 2]
+        })
+        .collect();
+    let gravity: Vec<Gravity> = (0..10).map(|_| Gravity { mg: 1.0 }).collect();
+    let dofs3: Vec<[u32; 3]> = (0..10u32).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect();
+    let n = 80; // rows 75..80 are touched by no stencil: diagonal only
+    let sets: Vec<Box<dyn AnyStencilSet>> = vec![
+        Box::new(StencilSet::new("springs", springs, dofs6.clone())),
+        Box::new(StencilSet::new("gravity", gravity, dofs3.clone())),
+    ];
+    let mut pairs: Vec<(u32, u32)> = (0..n as u32).map(|i| (i, i)).collect();
+    for d in &dofs6 {
+        for &r in d {
+            pairs.extend(d.iter().map(|&c| (r, c)));
+        }
+    }
+    for d in &dofs3 {
+        for &r in d {
+            pairs.extend(d.iter().map(|&c| (r, c)));
+        }
+    }
+    assert_eq!(hessian_pattern(n, &sets), CsrMatrix::from_pattern(n, pairs));
 }
