@@ -51,7 +51,11 @@ fn relax_pattern(path: &Path, looseness: &str) -> Result<String, String> {
     let n_contacts = fabric.contacts.len();
     let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
     let e0 = potential(&sim);
+    let before = (sim.newton.max_iterations, sim.newton.max_force_tol, sim.h, sim.h_max);
     let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
+    // Relaxation's Newton settings and pseudo time step do not leak out.
+    let after = (sim.newton.max_iterations, sim.newton.max_force_tol, sim.h, sim.h_max);
+    assert_eq!(before, after, "{name}: relax left its settings on the simulation");
     let e1 = potential(&sim);
     let max_gap = sim.eil_gaps().into_iter().fold(0.0f64, f64::max);
     let radius = sim.params.rod.radius;

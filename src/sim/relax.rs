@@ -72,7 +72,24 @@ pub struct RelaxReport {
 
 /// Relaxes `sim` in place. `on_iter` sees every Newton iteration with the
 /// current EIL count; `on_step` every accepted step with the static residual.
+///
+/// The Newton parameters and time-step bounds relaxation needs are set for
+/// the run and put back afterwards (also after an error), so a caller that
+/// goes on to simulate dynamics with the same `Simulation` gets its own.
 pub fn relax(
+    sim: &mut Simulation,
+    opts: RelaxOptions,
+    cancel: Option<&AtomicBool>,
+    on_iter: &mut dyn FnMut(&IterStats, usize),
+    on_step: &mut dyn FnMut(usize, f64),
+) -> Result<RelaxReport, SimError> {
+    let saved = (sim.newton, sim.h, sim.h_min, sim.h_max);
+    let out = relax_with_schedule(sim, opts, cancel, on_iter, on_step);
+    (sim.newton, sim.h, sim.h_min, sim.h_max) = saved;
+    out
+}
+
+fn relax_with_schedule(
     sim: &mut Simulation,
     opts: RelaxOptions,
     cancel: Option<&AtomicBool>,
