@@ -149,20 +149,27 @@ fn blocks_come_back_in_order_for_any_thread_count() {
     }
 }
 
+/// A chain of `n_nodes - 1` springs, node `a` to `a + 1`, with stiffness
+/// `k0 + (k % km)` and rest length `r0 + 0.1 (k % rm)` for spring `k`.
+fn spring_chain(n_nodes: usize, (k0, km): (f64, usize), (r0, rm): (f64, usize)) -> (Vec<Spring>, Vec<[u32; 6]>) {
+    let springs = (0..n_nodes - 1)
+        .map(|k| Spring {
+            k: k0 + (k % km) as f64,
+            rest: r0 + 0.1 * (k % rm) as f64,
+        })
+        .collect();
+    let dofs = (0..n_nodes as u32 - 1)
+        .map(|a| [3 * a, 3 * a + 1, 3 * a + 2, 3 * a + 3, 3 * a + 4, 3 * a + 5])
+        .collect();
+    (springs, dofs)
+}
+
 /// A set big enough to be split across threads assembles to the same
 /// bits as a plain serial loop over its stencils.
 #[test]
 fn a_split_set_assembles_bit_for_bit_like_a_serial_loop() {
     let n_nodes = 3 * PER_THREAD;
-    let springs: Vec<Spring> = (0..n_nodes - 1)
-        .map(|k| Spring {
-            k: 1.0 + (k % 7) as f64,
-            rest: 0.5 + 0.1 * (k % 3) as f64,
-        })
-        .collect();
-    let dofs: Vec<[u32; 6]> = (0..n_nodes as u32 - 1)
-        .map(|a| [3 * a, 3 * a + 1, 3 * a + 2, 3 * a + 3, 3 * a + 4, 3 * a + 5])
-        .collect();
+    let (springs, dofs) = spring_chain(n_nodes, (1.0, 7), (0.5, 3));
     let q: Vec<f64> = (0..3 * n_nodes)
         .map(|i| (i as f64 * 0.61).cos() + (i / 3) as f64)
         .collect();
@@ -198,15 +205,7 @@ fn a_split_set_assembles_bit_for_bit_like_a_serial_loop() {
 #[test]
 fn the_gradient_alone_matches_the_assembled_gradient_with_fixed_rows_zero() {
     let n_nodes = 2 * PER_THREAD + 5;
-    let springs: Vec<Spring> = (0..n_nodes - 1)
-        .map(|k| Spring {
-            k: 2.0 + (k % 5) as f64,
-            rest: 0.4 + 0.1 * (k % 4) as f64,
-        })
-        .collect();
-    let dofs: Vec<[u32; 6]> = (0..n_nodes as u32 - 1)
-        .map(|a| [3 * a, 3 * a + 1, 3 * a + 2, 3 * a + 3, 3 * a + 4, 3 * a + 5])
-        .collect();
+    let (springs, dofs) = spring_chain(n_nodes, (2.0, 5), (0.4, 4));
     let q: Vec<f64> = (0..3 * n_nodes)
         .map(|i| (i as f64 * 0.37).sin() + (i / 3) as f64)
         .collect();
