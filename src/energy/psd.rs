@@ -105,11 +105,11 @@ pub fn project_psd<const N: usize>(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N>
         return (m + m.transpose()) * 0.5;
     }
     let sym = (m + m.transpose()) * 0.5;
-    // Householder tridiagonalisation and implicit QR: about 2.5 times
-    // fewer flops than cyclic Jacobi at these sizes. Measured on a 20x20
-    // linen stitch run: assembly 0.066 -> 0.047 s per Newton iteration.
-    // nalgebra needs a dimension it can subtract 1 from, which a generic
-    // const `N` is not, hence the (cheap, next to the decomposition) heap copy.
+    // Householder tridiagonalisation and implicit QR instead of cyclic
+    // Jacobi sweeps. Measured on a 20x20 linen stitch run: assembly 0.066
+    // -> 0.047 s per Newton iteration. nalgebra needs a dimension it can
+    // subtract 1 from, which a generic const `N` is not, hence the heap copy
+    // (its cost is inside that measurement).
     let d = DMatrix::from_fn(N, N, |i, j| sym[(i, j)]);
     let (ev, v) = match SymmetricEigen::try_new(d, f64::EPSILON, 100 * N) {
         Some(se) => (
