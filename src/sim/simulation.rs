@@ -18,7 +18,6 @@ use super::params::SimParams;
 use super::problem::EolProblem;
 use super::system::{build_sets, rest_data, Discretization, RestData, StepInputs};
 use super::transfer::transfer;
-use crate::contact::ContactMode;
 use crate::solver::assembly::{gradient, AnyStencilSet, AssemblyError};
 use crate::solver::linear::LinearSolver;
 use crate::solver::newton::{IterStats, NewtonError, NewtonHooks, NewtonParams, NewtonStatus};
@@ -113,9 +112,19 @@ impl Simulation {
     pub fn problem(&self, inertia: Option<(f64, &[f64])>) -> Result<EolProblem, SimError> {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
         let sets = self.sets(&disc, inertia);
+        let contact = ContactTerms::new(&disc, &self.q, &self.params, &self.contact);
+        self.problem_of(sets, contact)
+    }
+
+    /// The Newton problem of these sets, with the thickness contact attached.
+    fn problem_of(
+        &self,
+        sets: Vec<Box<dyn AnyStencilSet>>,
+        contact: Option<ContactTerms>,
+    ) -> Result<EolProblem, SimError> {
         let free = free_mask(&self.fabric, &self.layout, &self.assignment);
         let mut problem = EolProblem::new(self.layout.n_nodes, self.layout.len(), sets, free)?;
-        if let Some(terms) = ContactTerms::new(&disc, &self.q, &self.params, &self.contact) {
+        if let Some(terms) = contact {
             problem.attach_contact(&self.q, terms)?;
         }
         Ok(problem)
@@ -130,17 +139,11 @@ impl Simulation {
     /// stiffness is balanced against the elastic forces when the problem is
     /// built, so that path builds the whole problem.
     pub fn static_residual(&self) -> Result<f64, SimError> {
-        let contact_on = self
-            .params
-            .contact
-            .as_ref()
-            .is_some_and(|c| c.mode() != ContactMode::None);
-        let g = if contact_on {
-            self.problem(None)?.free_gradient(&self.q)?
-        } else {
-            let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-            let free = free_mask(&self.fabric, &self.layout, &self.assignment);
-            gradient(&self.sets(&disc, None), &self.q, &free)
+        let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
+        let sets = self.sets(&disc, None);
+        let g = match ContactTerms::new(&disc, &self.q, &self.params, &self.contact) {
+            Some(terms) => self.problem_of(sets, Some(terms))?.free_gradient(&self.q)?,
+            None => gradient(&sets, &self.q, &free_mask(&self.fabric, &self.layout, &self.assignment)),
         };
         Ok(g.iter().fold(0.0f64, |m, v| m.max(v.abs())) / self.params.rod.ks)
     }
