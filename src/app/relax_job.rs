@@ -51,8 +51,10 @@ pub struct RelaxOutcome {
     pub wall_s: f64,
     pub rows: Vec<CsvRow>,
     pub fabric: Fabric,
-    /// Contacts removed because a yarn was pulled out of them (`sim::removal`).
+    /// Contacts removed, for either cause (`sim::removal`).
     pub removed_contacts: usize,
+    /// Of those, the ones removed because their yarns pulled apart (`sim::separation`).
+    pub separated_contacts: usize,
     /// Points whose kind the next re-assignment would change
     /// (`Simulation::pending_kind_changes`).
     pub pending_kind_changes: usize,
@@ -106,6 +108,11 @@ pub fn run_relax(
         rows,
         fabric: out,
         removed_contacts: sim.removed.len(),
+        separated_contacts: sim
+            .removed
+            .iter()
+            .filter(|r| matches!(r.cause, crate::sim::removal::RemovalCause::Pulling { .. }))
+            .count(),
         pending_kind_changes: sim.pending_kind_changes(),
     })
 }

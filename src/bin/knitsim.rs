@@ -221,10 +221,14 @@ fn relax(
         r.max_eil,
         out.display()
     );
-    if outcome.removed_contacts > 0 {
+    let slid_off = outcome.removed_contacts - outcome.separated_contacts;
+    if slid_off > 0 {
+        println!("{slid_off} contact(s) removed: a yarn was pulled out of them (scene key remove_slid_off)");
+    }
+    if outcome.separated_contacts > 0 {
         println!(
-            "{} contact(s) removed: a yarn was pulled out of them (scene key remove_slid_off)",
-            outcome.removed_contacts
+            "{} contact(s) removed: their yarns pulled apart (scene key separation)",
+            outcome.separated_contacts
         );
     }
     if outcome.pending_kind_changes > 0 {

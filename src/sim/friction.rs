@@ -81,6 +81,24 @@ fn real_normal_force(
     k: usize,
     me: PointRef,
 ) -> Option<f64> {
+    let (force, tangent) = real_contact_force(f, l, q, p, real, k, me)?;
+    Some(across(force, tangent))
+}
+
+/// The force the partner exerts on the real point `me` (rank `k` in its
+/// yarn's `real` list) through their shared node, and this yarn's unit
+/// tangent there. At equilibrium the partner balances this yarn's own
+/// forces on the node, so the contact force is the `x` gradient of this
+/// yarn's stretch, bending and (when on) gravity stencils at the node.
+pub(super) fn real_contact_force(
+    f: &Fabric,
+    l: &DofLayout,
+    q: &[f64],
+    p: &SimParams,
+    real: &[usize],
+    k: usize,
+    me: PointRef,
+) -> Option<(Vec3, Option<Vec3>)> {
     if real.get(k) != Some(&me.point) {
         return None;
     }
@@ -133,8 +151,7 @@ fn real_normal_force(
     let at = |r: Option<usize>| r.and_then(|r| real.get(r)).map(|&pi| l.node_x(q, yarn.points[pi].node));
     let x0 = l.node_x(q, yarn.points[me.point].node);
     let (prev, next) = (at(k.checked_sub(1)).unwrap_or(x0), at(Some(k + 1)).unwrap_or(x0));
-    // The partner balances this yarn's force on the node, `-grad`.
-    Some(across(-grad, (next - prev).try_normalize(1e-300)))
+    Some((grad, (next - prev).try_normalize(1e-300)))
 }
 
 fn eil_normal_force(

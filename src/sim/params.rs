@@ -8,6 +8,7 @@ use crate::rod::params::RodParams;
 use crate::scene::Shape;
 use crate::sim::assignment::AssignParams;
 use crate::sim::contact_terms::ContactParams;
+use crate::sim::separation::SeparationParams;
 use serde::{Deserialize, Serialize};
 
 /// Which energy terms exist.
@@ -55,6 +56,11 @@ pub struct SimParams {
     /// Remove a contact once its `u` leaves a yarn (`sim::removal`); a
     /// check per contact point per step, and a rebuild only when it fires.
     pub remove_slid_off: bool,
+    /// Remove a contact whose normal force pulls its yarns together (the
+    /// sign test, `sim::separation`); `None` (no `"separation"` key) = off
+    /// and free: no normals are tracked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separation: Option<SeparationParams>,
 }
 
 impl Default for SimParams {
@@ -67,6 +73,7 @@ impl Default for SimParams {
             obstacle_stiffness: 1e5,
             contact: None,
             remove_slid_off: true,
+            separation: None,
         }
     }
 }

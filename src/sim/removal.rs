@@ -26,10 +26,8 @@
 //! The system changes size, so the linear solver's symbolic analysis is
 //! redone once; this is a rare event (one per yarn end at most).
 //!
-//! Not done here: the normal-force sign test (a contact that pulls the
-//! yarns together instead of pushing them apart). In the centre-line model
-//! the two yarns share one node, so which side each yarn lies on has to be
-//! tracked separately; see docs/RELAX.md, "Still open".
+//! The other removal, by the normal-force sign test, is `sim::separation`;
+//! both end in [`Simulation::remove_contacts`].
 
 use super::assignment::{assign, rest_segment_lengths};
 use super::dofs::DofLayout;
@@ -40,10 +38,18 @@ use crate::topology::{Contact, PointRef};
 #[derive(Clone, Debug, PartialEq)]
 pub struct RemovedContact {
     pub contact: Contact,
-    /// The point that left its yarn (its address before the removal).
-    pub slid_off: PointRef,
+    pub cause: RemovalCause,
     /// Simulated time of the removal (s).
     pub time: f64,
+}
+
+/// Why a contact went.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RemovalCause {
+    /// This point's `u` left its yarn (its address before the removal).
+    SlidOff(PointRef),
+    /// The normal force pulled the yarns together (`sim::separation`); N.
+    Pulling { normal_force: f64 },
 }
 
 impl Simulation {
@@ -117,34 +123,53 @@ impl Simulation {
         let keep_contact: Vec<bool> = (0..f.contacts.len())
             .map(|k| !found.iter().any(|&(r, _)| r == k))
             .collect();
+        for &(k, gone) in &found {
+            self.removed.push(RemovedContact {
+                contact: self.fabric.contacts[k].clone(),
+                cause: RemovalCause::SlidOff(gone),
+                time: self.time,
+            });
+        }
+        self.remove_contacts(f, &keep_contact, &old_layout, &new_index);
+        found.len()
+    }
+
+    /// Drops the contacts of `f` whose `keep_contact` entry is false (and
+    /// their per-contact data), renumbers the kept contacts' points by
+    /// `new_index`, and installs `f` (see [`Self::rebuild`]).
+    pub(super) fn remove_contacts(
+        &mut self,
+        mut f: crate::topology::Fabric,
+        keep_contact: &[bool],
+        old_layout: &DofLayout,
+        new_index: &[Vec<Option<usize>>],
+    ) {
         let removed_nodes: Vec<usize> = (0..f.contacts.len())
             .filter(|&k| !keep_contact[k])
             .map(|k| f.contacts[k].node)
             .collect();
-        retain_mask(&mut f.contacts, &keep_contact);
+        retain_mask(&mut f.contacts, keep_contact);
         for c in &mut f.contacts {
             for p in [&mut c.front, &mut c.back] {
                 p.point = new_index[p.yarn][p.point].expect("a kept contact's points are kept");
             }
+            // A stitch contact's other node lost its contact: no wrapping pair.
             if c.partner.is_some_and(|n| removed_nodes.contains(&n)) {
                 c.partner = None;
             }
         }
-        for &(k, gone) in &found {
-            self.removed.push(RemovedContact {
-                contact: self.fabric.contacts[k].clone(),
-                slid_off: gone,
-                time: self.time,
-            });
+        retain_mask(&mut self.rest.wrap_rest, keep_contact);
+        retain_mask(&mut self.rest.shear_rest, keep_contact);
+        if self.contact_normals.len() == keep_contact.len() {
+            retain_mask(&mut self.contact_normals, keep_contact);
         }
-        retain_mask(&mut self.rest.wrap_rest, &keep_contact);
-        retain_mask(&mut self.rest.shear_rest, &keep_contact);
-        self.rebuild(f, &old_layout, &new_index);
-        found.len()
+        self.rebuild(f, old_layout, new_index);
     }
 
-    /// Installs a fabric whose nodes are the old ones and whose points are
-    /// the old ones minus some (`new_index`), carrying the per-point state.
+    /// Installs a fabric whose nodes are the old ones (plus, after a
+    /// separation, copies appended at the end, whose velocities the caller
+    /// sets) and whose points are the old ones minus some (`new_index`),
+    /// carrying the per-point state.
     fn rebuild(&mut self, f: crate::topology::Fabric, old: &DofLayout, new_index: &[Vec<Option<usize>>]) {
         let layout = DofLayout::new(&f);
         let q = layout.gather(&f);
@@ -180,6 +205,7 @@ fn retain_mask<T>(v: &mut Vec<T>, keep: &[bool]) {
 
 #[cfg(test)]
 mod tests {
+    use super::RemovalCause;
     use crate::sim::assignment::tests::crossing_fabric;
     use crate::sim::{SimParams, Simulation};
     use crate::solver::linear::LinearSolver;
@@ -239,7 +265,10 @@ mod tests {
         // and the contact is gone; yarn 1 keeps the node as a fixed-u point.
         let mut sim = pull(true, 8);
         assert_eq!(sim.removed.len(), 1, "{:?}", sim.removed);
-        assert_eq!(sim.removed[0].slid_off, PointRef { yarn: 0, point: 1 });
+        assert_eq!(
+            sim.removed[0].cause,
+            RemovalCause::SlidOff(PointRef { yarn: 0, point: 1 })
+        );
         assert!(sim.fabric.contacts.is_empty());
         assert_eq!(sim.fabric.yarns[0].points.len(), 11);
         assert!(sim.fabric.yarns[0].points.iter().all(|p| p.node != 0));

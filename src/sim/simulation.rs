@@ -64,8 +64,13 @@ pub struct Simulation {
     pub time: f64,
     /// Barrier stiffness and gap carried between steps (contact on only).
     pub contact: ContactState,
-    /// Contacts removed so far because their `u` left a yarn (`sim::removal`).
+    /// Contacts removed so far: their `u` left a yarn (`sim::removal`) or
+    /// they pulled (`sim::separation`).
     pub removed: Vec<super::removal::RemovedContact>,
+    /// Per contact, the unit normal from its back yarn to its front yarn,
+    /// carried from step to step while separation is on (`sim::separation`);
+    /// empty otherwise.
+    pub contact_normals: Vec<crate::topology::Vec3>,
 }
 
 impl Simulation {
@@ -77,7 +82,7 @@ impl Simulation {
         let rest = rest_data(&fabric, &layout, &assignment, &q);
         let anchors = (0..layout.n_points()).map(|i| q[3 * layout.n_nodes + i]).collect();
         let friction_limits = coulomb_limits(&fabric, &layout, &assignment, &q, &params, &rest.rest_seg);
-        Simulation {
+        let mut sim = Simulation {
             v: vec![0.0; q.len()],
             fabric,
             params,
@@ -95,7 +100,12 @@ impl Simulation {
             time: 0.0,
             contact: ContactState::default(),
             removed: Vec::new(),
+            contact_normals: Vec::new(),
+        };
+        if sim.params.separation.is_some() {
+            sim.update_contact_normals();
         }
+        sim
     }
 
     /// The stencil sets of the current assignment; `inertia` as in [`StepInputs`].
@@ -247,6 +257,12 @@ impl Simulation {
                 }
                 if converged && retries == 0 {
                     self.h = (self.h * 2.0).min(self.h_max);
+                }
+                // On the state the step ended in, before a prescribed
+                // motion of the next step can move pins (sim::separation).
+                if self.params.separation.is_some() {
+                    self.update_contact_normals();
+                    self.separate_pulling();
                 }
                 return Ok(StepReport {
                     h,

@@ -130,7 +130,7 @@ impl<'a> Discretization<'a> {
         Some(())
     }
 
-    fn is_eil(&self, p: PointRef) -> bool {
+    pub(super) fn is_eil(&self, p: PointRef) -> bool {
         self.a.is_eil(self.l, p)
     }
 
