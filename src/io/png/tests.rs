@@ -97,8 +97,8 @@ fn shading_is_brighter_towards_the_light() {
     assert!(upper > lower, "upper {upper} lower {lower}");
 }
 
-#[test]
-fn upper_yarn_is_visible_at_a_crossing() {
+/// A red yarn along x under a blue one along y, crossing at (2, 2) mm.
+fn crossing_yarns() -> Fabric {
     let mut f = fabric_with(&[([200, 30, 30], 0.4 * MM), ([30, 60, 200], 0.4 * MM)]);
     push_yarn(
         &mut f,
@@ -114,6 +114,12 @@ fn upper_yarn_is_visible_at_a_crossing() {
             Vec3::new(2.0 * MM, 4.0 * MM, 0.5 * MM),
         ],
     );
+    f
+}
+
+#[test]
+fn upper_yarn_is_visible_at_a_crossing() {
+    let f = crossing_yarns();
     let img = render_preview(&f, &options(10.0)).unwrap();
     // Crossing at (2, 2) mm; the box starts at -0.4 mm, margin 5 px.
     let (col, row) = (5 + 24, 5 + 24);
@@ -136,6 +142,21 @@ fn output_is_deterministic_and_png_round_trips() {
     assert_eq!(bytes, std::fs::read(&b).unwrap());
     let decoded = image::load_from_memory(&bytes).unwrap().to_rgb8();
     assert_eq!(decoded, render_preview(&f, &options(10.0)).unwrap());
+}
+
+#[test]
+fn the_thread_count_changes_no_pixel() {
+    // Two crossing yarns of different colours over several tiles.
+    let f = crossing_yarns();
+    let one = render_on(&f, &options(40.0), 1).unwrap();
+    assert!(one.width() as usize > 2 * TILE_PX && one.height() as usize > 2 * TILE_PX);
+    for workers in [2, 3, 7] {
+        assert_eq!(
+            render_on(&f, &options(40.0), workers).unwrap(),
+            one,
+            "{workers} workers"
+        );
+    }
 }
 
 #[test]
