@@ -57,5 +57,70 @@ pub fn load_params(path: &Path) -> Result<SimParams, SceneError> {
             });
         }
     }
+    if let Some(sep) = &params.separation {
+        if !(sep.min_pull.is_finite() && sep.min_pull >= 0.0) {
+            return Err(SceneError::Invalid {
+                path: p,
+                message: format!(
+                    "separation.min_pull must be a finite non-negative force (N), got {}",
+                    sep.min_pull
+                ),
+            });
+        }
+    }
     Ok(params)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(text: &str) -> (Result<SimParams, SceneError>, String) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("scene.json");
+        std::fs::write(&path, text).unwrap();
+        (load_params(&path), path.display().to_string())
+    }
+
+    #[test]
+    fn missing_keys_keep_their_defaults() {
+        let (p, _) = load(r#"{"rod": {"ks": 50.0}, "separation": {}}"#);
+        let p = p.unwrap();
+        assert_eq!(p.rod.ks, 50.0);
+        assert_eq!(p.rod.kb, SimParams::default().rod.kb);
+        assert_eq!(p.separation, Some(crate::sim::SeparationParams::default()));
+    }
+
+    #[test]
+    fn malformed_json_and_unknown_keys_name_file_line_and_column() {
+        for (text, line, column) in [
+            ("{\n  \"rod\": {\"ks\": 1.0,}\n}", 2, 21),
+            ("{\n  \"separation\": {\"min_pul\": 1}\n}", 2, 26),
+        ] {
+            let (r, path) = load(text);
+            let e = r.unwrap_err();
+            assert!(
+                matches!(&e, SceneError::Parse { line: l, column: c, .. } if (*l, *c) == (line, column)),
+                "{e:?}"
+            );
+            assert!(e.to_string().starts_with(&format!("{path}:{line}:{column}: ")), "{e}");
+        }
+    }
+
+    #[test]
+    fn negative_or_non_finite_values_are_refused() {
+        for (text, key) in [
+            (r#"{"rod": {"ks": -1.0}}"#, "rod.ks"),
+            (r#"{"separation": {"min_pull": -0.1}}"#, "separation.min_pull"),
+        ] {
+            let (r, path) = load(text);
+            let e = r.unwrap_err().to_string();
+            assert!(e.starts_with(&path) && e.contains(key), "{e}");
+        }
+        // JSON has no NaN or infinity: an out-of-range number is a parse error.
+        assert!(matches!(
+            load(r#"{"rod": {"kb": 1e999}}"#).0,
+            Err(SceneError::Parse { .. })
+        ));
+    }
 }
