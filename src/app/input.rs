@@ -7,7 +7,7 @@ use std::path::Path;
 
 #[derive(Debug, thiserror::Error)]
 pub enum InputError {
-    #[error("{0}")]
+    #[error(transparent)]
     Pattern(#[from] Box<PatternError>),
     #[error("{path}: cannot build the yarn topology")]
     Topology { path: String, source: TopologyError },

@@ -90,7 +90,13 @@ impl From<SolverChoice> for knitsim::solver::linear::SolverChoice {
 
 fn main() {
     if let Err(e) = run(Cli::parse()) {
-        eprintln!("error: {e:#}");
+        // Pattern diagnostics come with their own "error:" heading and snippet.
+        let message = format!("{e:#}");
+        if message.starts_with("error") {
+            eprintln!("{message}");
+        } else {
+            eprintln!("error: {message}");
+        }
         std::process::exit(1);
     }
 }
