@@ -56,7 +56,7 @@ pub fn coulomb_limits(
                 let kc = p.rod.contact_stiffness(rest_seg[me.yarn]);
                 eil_normal_force(f, l, a, q, kc, me, other)
             } else {
-                real_normal_force(f, l, q, p, &real[me.yarn], rank[l.point(me)], me)
+                real_contact_force(f, l, q, p, &real[me.yarn], rank[l.point(me)], me).map(|(f, t)| across(f, t))
             };
             limits[l.point(me)] = p.rod.mu.abs() * fn_.unwrap_or(0.0);
         }
@@ -70,19 +70,6 @@ fn across(force: Vec3, t: Option<Vec3>) -> f64 {
         Some(t) => (force - t * force.dot(&t)).norm(),
         None => force.norm(),
     }
-}
-
-fn real_normal_force(
-    f: &Fabric,
-    l: &DofLayout,
-    q: &[f64],
-    p: &SimParams,
-    real: &[usize],
-    k: usize,
-    me: PointRef,
-) -> Option<f64> {
-    let (force, tangent) = real_contact_force(f, l, q, p, real, k, me)?;
-    Some(across(force, tangent))
 }
 
 /// The force the partner exerts on the real point `me` (rank `k` in its
