@@ -40,7 +40,7 @@
 //! gone nothing but the thickness barrier (`"contact"` in a scene) keeps the
 //! float from passing through the leg, so floats are opt-in.
 
-use super::friction::real_contact_force;
+use super::friction::{real_contact_force, real_ranks};
 use super::removal::{RemovalCause, RemovedContact};
 use super::simulation::Simulation;
 use super::system::Discretization;
@@ -73,10 +73,12 @@ impl Simulation {
     /// is on.
     pub fn update_contact_normals(&mut self) {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
+        let rank = real_ranks(&self.layout, &disc.real);
         let mut normals = std::mem::take(&mut self.contact_normals);
         normals.resize(self.fabric.contacts.len(), Vec3::zeros());
         for (c, n_old) in self.fabric.contacts.iter().zip(normals.iter_mut()) {
-            let (Some(tf), Some(tb)) = (self.tangent(&disc, c.front), self.tangent(&disc, c.back)) else {
+            let tangent = |p| self.tangent(&disc, &rank, p);
+            let (Some(tf), Some(tb)) = (tangent(c.front), tangent(c.back)) else {
                 continue;
             };
             let Some(n) = tf.cross(&tb).try_normalize(1e-12) else {
@@ -90,14 +92,14 @@ impl Simulation {
 
     /// Unit tangent of a yarn point: along the chord between its real
     /// neighbours (or, for an EIL point, its interpolation neighbours).
-    fn tangent(&self, disc: &Discretization, p: PointRef) -> Option<Vec3> {
+    fn tangent(&self, disc: &Discretization, rank: &[usize], p: PointRef) -> Option<Vec3> {
         let (l, yarn) = (&self.layout, &self.fabric.yarns[p.yarn]);
         let (a, b) = if disc.is_eil(p) {
             self.assignment.interpolation_neighbours(l, p)?
         } else {
             let real = &disc.real[p.yarn];
-            let k = real.iter().position(|&r| r == p.point)?;
-            (real[k.checked_sub(1).unwrap_or(k)], real[(k + 1).min(real.len() - 1)])
+            let k = rank[l.point(p)];
+            (real[k.saturating_sub(1)], real[(k + 1).min(real.len() - 1)])
         };
         let x = |pi: usize| l.node_x(&self.q, yarn.points[pi].node);
         (x(b) - x(a)).try_normalize(1e-300)
@@ -111,9 +113,9 @@ impl Simulation {
             return vec![None; self.fabric.contacts.len()];
         };
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
+        let rank = real_ranks(&self.layout, &disc.real);
         let force_on = |p: PointRef| {
-            let real = &disc.real[p.yarn];
-            let k = real.iter().position(|&r| r == p.point)?;
+            let (real, k) = (&disc.real[p.yarn], rank[self.layout.point(p)]);
             real_contact_force(&self.fabric, &self.layout, &self.q, &self.params, real, k, p).map(|(f, _)| f)
         };
         self.fabric
