@@ -10,6 +10,7 @@
 use crate::io::{
     save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
+use crate::sim::removal::RemovalCause;
 use crate::sim::{relax, RelaxOptions, RelaxReport, SimError, SimParams, Simulation};
 use crate::solver::linear::LinearSolver;
 use crate::topology::{Fabric, SimInfo};
@@ -51,9 +52,9 @@ pub struct RelaxOutcome {
     pub wall_s: f64,
     pub rows: Vec<CsvRow>,
     pub fabric: Fabric,
-    /// Contacts removed, for either cause (`sim::removal`).
-    pub removed_contacts: usize,
-    /// Of those, the ones removed because their yarns pulled apart (`sim::separation`).
+    /// Contacts removed because a yarn was pulled out of them (`sim::removal`).
+    pub slid_off_contacts: usize,
+    /// Contacts removed because their yarns pulled apart (`sim::separation`).
     pub separated_contacts: usize,
     /// Points whose kind the next re-assignment would change
     /// (`Simulation::pending_kind_changes`).
@@ -102,17 +103,14 @@ pub fn run_relax(
         residual: report.residual,
     });
     write_outputs(&out, &job.out_dir, &rows)?;
+    let count = |which: fn(&RemovalCause) -> bool| sim.removed.iter().filter(|r| which(&r.cause)).count();
     Ok(RelaxOutcome {
         report,
         wall_s,
         rows,
         fabric: out,
-        removed_contacts: sim.removed.len(),
-        separated_contacts: sim
-            .removed
-            .iter()
-            .filter(|r| matches!(r.cause, crate::sim::removal::RemovalCause::Pulling { .. }))
-            .count(),
+        slid_off_contacts: count(RemovalCause::is_slid_off),
+        separated_contacts: count(|c| !c.is_slid_off()),
         pending_kind_changes: sim.pending_kind_changes(),
     })
 }

@@ -4,7 +4,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use knitsim::app::{load_fabric, run_relax, RelaxJob};
+use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob};
 use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
 use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions, SimParams};
 use knitsim::solver::linear::{select, AutoParams};
@@ -90,12 +90,11 @@ impl From<SolverChoice> for knitsim::solver::linear::SolverChoice {
 
 fn main() {
     if let Err(e) = run(Cli::parse()) {
-        // Pattern diagnostics come with their own "error:" heading and snippet.
-        let message = format!("{e:#}");
-        if message.starts_with("error") {
-            eprintln!("{message}");
+        // A pattern diagnostic comes with its own "error:" heading and snippet.
+        if let Some(InputError::Pattern(diagnostic)) = e.downcast_ref::<InputError>() {
+            eprintln!("{diagnostic}");
         } else {
-            eprintln!("error: {message}");
+            eprintln!("error: {e:#}");
         }
         std::process::exit(1);
     }
@@ -227,9 +226,11 @@ fn relax(
         r.max_eil,
         out.display()
     );
-    let slid_off = outcome.removed_contacts - outcome.separated_contacts;
-    if slid_off > 0 {
-        println!("{slid_off} contact(s) removed: a yarn was pulled out of them (scene key remove_slid_off)");
+    if outcome.slid_off_contacts > 0 {
+        println!(
+            "{} contact(s) removed: a yarn was pulled out of them (scene key remove_slid_off)",
+            outcome.slid_off_contacts
+        );
     }
     if outcome.separated_contacts > 0 {
         println!(

@@ -52,6 +52,12 @@ pub enum RemovalCause {
     Pulling { normal_force: f64 },
 }
 
+impl RemovalCause {
+    pub fn is_slid_off(&self) -> bool {
+        matches!(self, RemovalCause::SlidOff(_))
+    }
+}
+
 impl Simulation {
     /// Whether a point's `u` is at or beyond its yarn's end points (NaN
     /// counts as off).

@@ -69,15 +69,29 @@ impl Default for SeparationParams {
 
 impl Simulation {
     /// Sets or turns every contact normal (see the module docs). Called when
-    /// the simulation is made and at the end of each step while separation
-    /// is on.
+    /// the simulation is made while separation is on.
     pub fn update_contact_normals(&mut self) {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
         let rank = real_ranks(&self.layout, &disc.real);
-        let mut normals = std::mem::take(&mut self.contact_normals);
+        self.contact_normals = self.turned_normals(&disc, &rank);
+    }
+
+    /// The end-of-step work while separation is on: turn the normals, then
+    /// split the contacts that pull, on one discretization of the state.
+    pub(super) fn separate_after_step(&mut self) -> usize {
+        let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
+        let rank = real_ranks(&self.layout, &disc.real);
+        self.contact_normals = self.turned_normals(&disc, &rank);
+        let forces = self.normal_forces(&disc, &rank);
+        self.split_pulling(forces)
+    }
+
+    /// [`Self::contact_normals`] turned with the current yarn tangents.
+    fn turned_normals(&self, disc: &Discretization, rank: &[usize]) -> Vec<Vec3> {
+        let mut normals = self.contact_normals.clone();
         normals.resize(self.fabric.contacts.len(), Vec3::zeros());
         for (c, n_old) in self.fabric.contacts.iter().zip(normals.iter_mut()) {
-            let tangent = |p| self.tangent(&disc, &rank, p);
+            let tangent = |p| self.tangent(disc, rank, p);
             let (Some(tf), Some(tb)) = (tangent(c.front), tangent(c.back)) else {
                 continue;
             };
@@ -87,7 +101,7 @@ impl Simulation {
             let reference = if *n_old == Vec3::zeros() { Vec3::z() } else { *n_old };
             *n_old = if n.dot(&reference) < 0.0 { -n } else { n };
         }
-        self.contact_normals = normals;
+        normals
     }
 
     /// Unit tangent of a yarn point: along the chord between its real
@@ -109,11 +123,15 @@ impl Simulation {
     /// it is not tested: a kind that may not separate, an EIL point, or no
     /// normal yet.
     pub fn contact_normal_forces(&self) -> Vec<Option<f64>> {
+        let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
+        let rank = real_ranks(&self.layout, &disc.real);
+        self.normal_forces(&disc, &rank)
+    }
+
+    fn normal_forces(&self, disc: &Discretization, rank: &[usize]) -> Vec<Option<f64>> {
         let Some(sp) = &self.params.separation else {
             return vec![None; self.fabric.contacts.len()];
         };
-        let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-        let rank = real_ranks(&self.layout, &disc.real);
         let force_on = |p: PointRef| {
             let (real, k) = (&disc.real[p.yarn], rank[self.layout.point(p)]);
             real_contact_force(&self.fabric, &self.layout, &self.q, &self.params, real, k, p).map(|(f, _)| f)
@@ -135,11 +153,17 @@ impl Simulation {
     /// Splits every tested contact whose normal force is below
     /// `-min_pull`; returns how many went.
     pub fn separate_pulling(&mut self) -> usize {
+        let forces = self.contact_normal_forces();
+        self.split_pulling(forces)
+    }
+
+    /// Splits the contacts whose normal force (from [`Self::normal_forces`])
+    /// is below `-min_pull`.
+    fn split_pulling(&mut self, forces: Vec<Option<f64>>) -> usize {
         let Some(min_pull) = self.params.separation.as_ref().map(|s| s.min_pull) else {
             return 0;
         };
-        let found: Vec<(usize, f64)> = self
-            .contact_normal_forces()
+        let found: Vec<(usize, f64)> = forces
             .into_iter()
             .enumerate()
             .filter_map(|(ci, n)| n.filter(|&n| n < -min_pull).map(|n| (ci, n)))

@@ -261,8 +261,7 @@ impl Simulation {
                 // On the state the step ended in, before a prescribed
                 // motion of the next step can move pins (sim::separation).
                 if self.params.separation.is_some() {
-                    self.update_contact_normals();
-                    self.separate_pulling();
+                    self.separate_after_step();
                 }
                 return Ok(StepReport {
                     h,
