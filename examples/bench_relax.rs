@@ -16,6 +16,16 @@
 //! position by up to 1 nm (the yarn radius is 0.75 mm). The float
 //! patterns' counts depend on rounding (docs/RELAX.md), so a single count
 //! is one sample of a spread; this prints the spread.
+//!
+//! `-- --iteration-cost SIZES REPS` measures seconds per Newton iteration
+//! on a workload that does not depend on when the equilibrium test happens
+//! to pass: the first two relaxation steps (every step of which runs to
+//! its Newton cap; the second has the first EIL points), `REPS` times per
+//! case, sizes interleaved, keeping each case's fastest run. The sandbox's
+//! speed drifts by up to 25% over minutes (docs/RELAX.md), so single runs
+//! of different sizes are not comparable; the minimum over interleaved
+//! repetitions is. Prints the exponent of seconds per iteration against
+//! DOFs between consecutive sizes and fitted over all of them.
 
 use knitsim::pattern::parse_str;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
@@ -35,6 +45,12 @@ fn main() -> anyhow::Result<()> {
     if args.get(1).map(String::as_str) == Some("--spread") {
         return spread(&args[0], &args[2], args[3].parse()?);
     }
+    if args.get(1).map(String::as_str) == Some("--fixed-steps") {
+        return fixed_steps(&args[2], args[3].parse()?, args[4].parse()?);
+    }
+    if args.get(1).map(String::as_str) == Some("--iteration-cost") {
+        return iteration_cost(&args[0], &args[2], args[3].parse()?);
+    }
     let sizes: Vec<usize> = args
         .get(1)
         .map(String::as_str)
@@ -43,9 +59,9 @@ fn main() -> anyhow::Result<()> {
         .map(str::parse)
         .collect::<Result<_, _>>()?;
     println!(
-        "| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual |"
+        "| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual | energy (J) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     let mut fit: Vec<(f64, f64)> = Vec::new();
     for name in PATTERNS {
         for &n in &sizes {
@@ -66,18 +82,117 @@ fn main() -> anyhow::Result<()> {
             }
         }
     }
-    if fit.len() >= 2 {
-        let n = fit.len() as f64;
-        let (sx, sy) = fit.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
-        let (mx, my) = (sx / n, sy / n);
-        let (num, den) = fit.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-            (a + (x - mx) * (y - my), b + (x - mx).powi(2))
-        });
+    if sizes.len() >= 2 && fit.len() >= 2 {
         println!(
             "\nseconds per Newton iteration ~ DOFs^{:.2} (least squares over all rows)",
-            num / den
+            slope(&fit)
         );
     }
+    Ok(())
+}
+
+/// Least-squares slope of `(x, y)` points.
+fn slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (sx, sy) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let (mx, my) = (sx / n, sy / n);
+    let (num, den) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + (x - mx) * (y - my), b + (x - mx).powi(2))
+    });
+    num / den
+}
+
+/// The `--fixed-steps` runs of one case.
+struct CostRuns {
+    pattern: &'static str,
+    n: usize,
+    dofs: f64,
+    iterations: usize,
+    /// Seconds per Newton iteration, one entry per run.
+    per_it: Vec<f64>,
+}
+
+impl CostRuns {
+    fn fastest(&self) -> f64 {
+        self.per_it.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// Seconds per Newton iteration of the first two relaxation steps, the
+/// fastest of `reps` interleaved runs per case (see the module docs).
+fn iteration_cost(exe: &str, sizes: &str, reps: usize) -> anyhow::Result<()> {
+    let sizes: Vec<usize> = sizes.split(',').map(str::parse).collect::<Result<_, _>>()?;
+    let mut runs: Vec<CostRuns> = Vec::new();
+    for _ in 0..reps.max(1) {
+        for pattern in PATTERNS {
+            for &n in &sizes {
+                let out = Command::new(exe)
+                    .args(["--fixed-steps", pattern, &n.to_string(), "2"])
+                    .output()?;
+                let text = String::from_utf8_lossy(&out.stdout);
+                let v: Vec<f64> = text.split_whitespace().filter_map(|t| t.parse().ok()).collect();
+                anyhow::ensure!(out.status.success() && v.len() == 3, "{pattern} {n}: {text}");
+                match runs.iter_mut().find(|r| r.pattern == pattern && r.n == n) {
+                    Some(r) => r.per_it.push(v[2] / v[1]),
+                    None => runs.push(CostRuns {
+                        pattern,
+                        n,
+                        dofs: v[0],
+                        iterations: v[1] as usize,
+                        per_it: vec![v[2] / v[1]],
+                    }),
+                }
+            }
+        }
+    }
+    println!("| pattern | stitches | DOFs | Newton its per run | fastest s / it | all runs s / it |");
+    println!("|---|---|---|---|---|---|");
+    for r in &runs {
+        let all: Vec<String> = r.per_it.iter().map(|s| format!("{s:.4}")).collect();
+        println!(
+            "| {} | {n}x{n} | {} | {} | {:.4} | {} |",
+            r.pattern,
+            r.dofs,
+            r.iterations,
+            r.fastest(),
+            all.join(", "),
+            n = r.n
+        );
+    }
+    for pattern in PATTERNS {
+        let pts: Vec<(f64, f64)> = runs
+            .iter()
+            .filter(|r| r.pattern == pattern)
+            .map(|r| (r.dofs.ln(), r.fastest().ln()))
+            .collect();
+        let steps: Vec<String> = pts.windows(2).map(|w| format!("{:.2}", slope(w))).collect();
+        println!(
+            "{pattern}: fastest s / it ~ DOFs^({}) between consecutive sizes, DOFs^{:.2} fitted",
+            steps.join(", "),
+            slope(&pts)
+        );
+    }
+    Ok(())
+}
+
+/// Prints `DOFs iterations seconds` for the first `steps` relaxation steps
+/// of a case, with the equilibrium test off so every step runs its course.
+fn fixed_steps(name: &str, n: usize, steps: usize) -> anyhow::Result<()> {
+    let fabric = compiled(name, n)?;
+    let opts = RelaxOptions {
+        tol: 0.0,
+        max_steps: steps,
+        ..RelaxOptions::default()
+    };
+    let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
+    let t0 = Instant::now();
+    let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
+    println!(
+        "{} {} {:.4}",
+        sim.q.len(),
+        rep.newton_iterations,
+        t0.elapsed().as_secs_f64()
+    );
     Ok(())
 }
 
@@ -151,8 +266,8 @@ fn jitter(fabric: &mut knitsim::topology::Fabric, seed: u64) {
     }
 }
 
-/// One case, printed as a table row; `seed` as in [`jitter`].
-fn run_case(name: &str, n: usize, seed: u64) -> anyhow::Result<()> {
+/// The shipped pattern `name` resized to `n x n` stitches, compiled.
+fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabric> {
     let path = format!("{}/patterns/{name}.knit", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path)?;
     let text: String = text
@@ -169,7 +284,15 @@ fn run_case(name: &str, n: usize, seed: u64) -> anyhow::Result<()> {
         .collect::<Vec<_>>()
         .join("\n");
     let parsed = parse_str(&text, &path)?;
-    let mut fabric = compile(&parsed.pattern, &CompileOptions::default())?;
+    Ok(compile(&parsed.pattern, &CompileOptions::default())?)
+}
+
+/// One case, printed as a table row; `seed` as in [`jitter`]. The last
+/// column is the potential energy of the relaxed state: two states that
+/// both pass the equilibrium test can differ in it by a quarter
+/// (docs/RELAX.md, "What the default tolerance means").
+fn run_case(name: &str, n: usize, seed: u64) -> anyhow::Result<()> {
+    let mut fabric = compiled(name, n)?;
     jitter(&mut fabric, seed);
     let nodes = fabric.nodes.len();
     let opts = RelaxOptions::default();
@@ -178,8 +301,9 @@ fn run_case(name: &str, n: usize, seed: u64) -> anyhow::Result<()> {
     let t0 = Instant::now();
     let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
     let secs = t0.elapsed().as_secs_f64();
+    let energy: f64 = sim.problem(None)?.breakdown(&sim.q).iter().map(|(_, e)| e).sum();
     println!(
-        "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} |",
+        "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} | {energy:.4e} |",
         rep.newton_iterations,
         secs / rep.newton_iterations.max(1) as f64,
         peak_mib(),
