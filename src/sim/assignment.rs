@@ -203,6 +203,23 @@ pub(crate) mod tests {
     /// Two yarns of rest length `rest_length` through `nodes`, each point
     /// given as `(node, u, fixed_u)`, crossing at node 0: one float contact
     /// between point `front` of yarn 0 and point `back` of yarn 1.
+    /// A yarn of spec 0 through `(node, u, fixed_u)` points, none EIL.
+    pub(crate) fn test_yarn(points: &[(usize, f64, bool)], rest_length: f64) -> Yarn {
+        Yarn {
+            spec: 0,
+            rest_length,
+            points: points
+                .iter()
+                .map(|&(node, u, fixed_u)| YarnPoint {
+                    node,
+                    u,
+                    fixed_u,
+                    eil: false,
+                })
+                .collect(),
+        }
+    }
+
     pub(crate) fn crossing_fabric(
         nodes: &[[f64; 3]],
         yarns: [&[(usize, f64, bool)]; 2],
@@ -220,22 +237,7 @@ pub(crate) mod tests {
                     pinned: false,
                 })
                 .collect(),
-            yarns: yarns
-                .iter()
-                .map(|pts| Yarn {
-                    spec: 0,
-                    rest_length,
-                    points: pts
-                        .iter()
-                        .map(|&(node, u, fixed_u)| YarnPoint {
-                            node,
-                            u,
-                            fixed_u,
-                            eil: false,
-                        })
-                        .collect(),
-                })
-                .collect(),
+            yarns: yarns.iter().map(|pts| test_yarn(pts, rest_length)).collect(),
             contacts: vec![Contact {
                 node: 0,
                 front: PointRef { yarn: 0, point: front },

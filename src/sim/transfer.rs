@@ -200,7 +200,8 @@ mod tests {
     /// transferred first, so it must not see the stale position.
     #[test]
     fn a_released_all_eil_node_leaves_its_stale_position_before_other_chords_use_it() {
-        use crate::topology::{Contact, ContactKind, Yarn, YarnPoint};
+        use crate::sim::assignment::tests::test_yarn;
+        use crate::topology::{Contact, ContactKind};
         let mut f = crossing_fabric(
             &[
                 [0.0, 0.0, 0.0],
@@ -220,19 +221,8 @@ mod tests {
             1,
             1,
         );
-        f.yarns.push(Yarn {
-            spec: 0,
-            rest_length: 1.0,
-            points: [(6, 0.0, true), (3, 0.5, false), (7, 1.0, true)]
-                .iter()
-                .map(|&(node, u, fixed_u)| YarnPoint {
-                    node,
-                    u,
-                    fixed_u,
-                    eil: false,
-                })
-                .collect(),
-        });
+        f.yarns
+            .push(test_yarn(&[(6, 0.0, true), (3, 0.5, false), (7, 1.0, true)], 1.0));
         let contact = |node, front, back| Contact {
             node,
             front,
