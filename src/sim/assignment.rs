@@ -41,13 +41,43 @@ impl Default for AssignParams {
 /// The discretization of one step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Assignment {
-    /// Per yarn, its point indices sorted by current `u`.
-    pub order: Vec<Vec<usize>>,
+    /// Per yarn, its point indices sorted by current `u` (private so that
+    /// it cannot drift from `rank`).
+    order: Vec<Vec<usize>>,
     /// Per global point number (see [`DofLayout::point`]): is it EIL?
     pub eil: Vec<bool>,
+    /// Per yarn, each point's place in `order` (the inverse permutation),
+    /// so a point's sorted neighbours are found without a scan: a flat
+    /// fabric is one yarn, and a scan per point made every step's set-up
+    /// quadratic in the fabric size.
+    rank: Vec<Vec<usize>>,
 }
 
 impl Assignment {
+    pub fn new(order: Vec<Vec<usize>>, eil: Vec<bool>) -> Self {
+        let rank = order
+            .iter()
+            .map(|ord| {
+                let mut r = vec![0; ord.len()];
+                for (k, &pi) in ord.iter().enumerate() {
+                    r[pi] = k;
+                }
+                r
+            })
+            .collect();
+        Assignment { order, eil, rank }
+    }
+
+    /// Per yarn, its point indices sorted by current `u`.
+    pub fn orders(&self) -> &[Vec<usize>] {
+        &self.order
+    }
+
+    /// Place of point `p` in its yarn's `u` order.
+    pub fn rank(&self, p: PointRef) -> usize {
+        self.rank[p.yarn][p.point]
+    }
+
     pub fn is_eil(&self, layout: &DofLayout, p: PointRef) -> bool {
         self.eil[layout.point(p)]
     }
@@ -67,7 +97,7 @@ impl Assignment {
     /// The non-EIL neighbours (previous, next) in `u` order of an EIL point.
     pub fn interpolation_neighbours(&self, layout: &DofLayout, p: PointRef) -> Option<(usize, usize)> {
         let ord = &self.order[p.yarn];
-        let k = ord.iter().position(|&i| i == p.point)?;
+        let k = self.rank(p);
         let off = layout.yarn_offsets[p.yarn];
         let prev = ord[..k].iter().rev().copied().find(|&i| !self.eil[off + i])?;
         let next = ord[k + 1..].iter().copied().find(|&i| !self.eil[off + i])?;
@@ -151,7 +181,7 @@ pub fn assign_after(
         }
         order.push(ord);
     }
-    Assignment { order, eil }
+    Assignment::new(order, eil)
 }
 
 /// Which coordinates are unknowns this step: not pinned, not a fixed `u`,

@@ -24,7 +24,7 @@ use crate::topology::PointRef;
 pub fn end_stops(disc: &Discretization, p: &SimParams) -> (Vec<ParallelContact>, Vec<[u32; 2]>) {
     let (f, l) = (disc.f, disc.l);
     let (mut t, mut d) = (vec![], vec![]);
-    for (y, ord) in disc.a.order.iter().enumerate() {
+    for (y, ord) in disc.a.orders().iter().enumerate() {
         let pts = &f.yarns[y].points;
         let contact = |pi: &&usize| disc.is_contact_point(PointRef { yarn: y, point: **pi });
         let (Some(&start), Some(&end)) = (ord.first(), ord.last()) else {

@@ -42,8 +42,8 @@ pub fn coulomb_limits(
     if !p.terms.friction {
         return limits;
     }
-    let real = Discretization::new(f, l, a).real;
-    let rank = real_ranks(l, &real);
+    let disc = Discretization::new(f, l, a);
+    let (real, rank) = (&disc.real, &disc.real_rank);
     for c in &f.contacts {
         for (me, other) in [(c.front, c.back), (c.back, c.front)] {
             let fn_ = if a.is_eil(l, me) {
@@ -56,18 +56,6 @@ pub fn coulomb_limits(
         }
     }
     limits
-}
-
-/// Rank of each real point in its yarn's `real` list, by global point
-/// number (`usize::MAX` for EIL points).
-pub(super) fn real_ranks(l: &DofLayout, real: &[Vec<usize>]) -> Vec<usize> {
-    let mut rank = vec![usize::MAX; l.n_points()];
-    for (y, r) in real.iter().enumerate() {
-        for (k, &pi) in r.iter().enumerate() {
-            rank[l.yarn_offsets[y] + pi] = k;
-        }
-    }
-    rank
 }
 
 /// Component of `force` across the unit tangent `t`.

@@ -40,7 +40,7 @@
 //! gone nothing but the thickness barrier (`"contact"` in a scene) keeps the
 //! float from passing through the leg, so floats are opt-in.
 
-use super::friction::{real_contact_force, real_ranks};
+use super::friction::real_contact_force;
 use super::removal::{RemovalCause, RemovedContact};
 use super::simulation::Simulation;
 use super::system::Discretization;
@@ -72,7 +72,7 @@ impl Simulation {
     /// the simulation is made while separation is on.
     pub fn update_contact_normals(&mut self) {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-        let rank = real_ranks(&self.layout, &disc.real);
+        let rank = &disc.real_rank;
         self.contact_normals = self.turned_normals(&disc, &rank);
     }
 
@@ -80,7 +80,7 @@ impl Simulation {
     /// split the contacts that pull, on one discretization of the state.
     pub(super) fn separate_after_step(&mut self) -> usize {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-        let rank = real_ranks(&self.layout, &disc.real);
+        let rank = &disc.real_rank;
         self.contact_normals = self.turned_normals(&disc, &rank);
         let forces = self.normal_forces(&disc, &rank);
         self.split_pulling(forces)
@@ -124,7 +124,7 @@ impl Simulation {
     /// normal yet.
     pub fn contact_normal_forces(&self) -> Vec<Option<f64>> {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-        let rank = real_ranks(&self.layout, &disc.real);
+        let rank = &disc.real_rank;
         self.normal_forces(&disc, &rank)
     }
 

@@ -347,7 +347,7 @@ pub fn interpolated(f: &Fabric, l: &DofLayout, a: &Assignment, q: &[f64], p: Poi
 fn sort_points(f: &mut Fabric, a: &Assignment) {
     let mut new_index: Vec<Vec<usize>> = Vec::with_capacity(f.yarns.len());
     for (yi, y) in f.yarns.iter_mut().enumerate() {
-        let ord = &a.order[yi];
+        let ord = &a.orders()[yi];
         let mut inv = vec![0; ord.len()];
         for (k, &pi) in ord.iter().enumerate() {
             inv[pi] = k;

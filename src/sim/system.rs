@@ -65,10 +65,16 @@ fn gather<const N: usize>(q: &[f64], d: &[u32; N]) -> SVector<f64, N> {
     SVector::from_fn(|i, _| q[d[i] as usize])
 }
 
-/// Neighbouring real points of a point along its yarn (sorted order).
-fn real_neighbours(real: &[usize], pi: usize) -> Option<(usize, usize)> {
-    let k = real.iter().position(|&r| r == pi)?;
-    Some((*real.get(k.checked_sub(1)?)?, *real.get(k + 1)?))
+/// Rank of each real point in its yarn's `real` list, by global point
+/// number (`usize::MAX` for EIL points).
+fn real_ranks(l: &DofLayout, real: &[Vec<usize>]) -> Vec<usize> {
+    let mut rank = vec![usize::MAX; l.n_points()];
+    for (y, r) in real.iter().enumerate() {
+        for (k, &pi) in r.iter().enumerate() {
+            rank[l.yarn_offsets[y] + pi] = k;
+        }
+    }
+    rank
 }
 
 /// The structural pieces every term needs, computed once per step.
@@ -78,13 +84,18 @@ pub struct Discretization<'a> {
     pub a: &'a Assignment,
     /// Real (non-EIL) points per yarn in `u` order.
     pub real: Vec<Vec<usize>>,
+    /// Per global point, its place in `real` (`usize::MAX` if EIL): the
+    /// neighbour lookups below are then O(1), where a scan of the yarn
+    /// made the set-up quadratic (a flat fabric is one yarn).
+    pub real_rank: Vec<usize>,
     /// The contact at each node, if any (`Contact::partner` names a node).
     contact_at_node: Vec<Option<usize>>,
 }
 
 impl<'a> Discretization<'a> {
     pub fn new(f: &'a Fabric, l: &'a DofLayout, a: &'a Assignment) -> Self {
-        let real = (0..f.yarns.len()).map(|y| a.real_points(l, y).collect()).collect();
+        let real: Vec<Vec<usize>> = (0..f.yarns.len()).map(|y| a.real_points(l, y).collect()).collect();
+        let real_rank = real_ranks(l, &real);
         let mut contact_at_node = vec![None; f.nodes.len()];
         for (ci, c) in f.contacts.iter().enumerate() {
             contact_at_node[c.node] = Some(ci);
@@ -94,6 +105,7 @@ impl<'a> Discretization<'a> {
             l,
             a,
             real,
+            real_rank,
             contact_at_node,
         }
     }
@@ -122,9 +134,21 @@ impl<'a> Discretization<'a> {
         Some(())
     }
 
+    /// Place of a real point among its yarn's real points (None if EIL).
+    fn real_index(&self, p: PointRef) -> Option<usize> {
+        Some(self.real_rank[self.l.point(p)]).filter(|&k| k != usize::MAX)
+    }
+
+    /// Neighbouring real points of a real point along its yarn (sorted
+    /// order), or None at a yarn end or for an EIL point.
+    fn real_neighbours(&self, p: PointRef) -> Option<(usize, usize)> {
+        let (real, k) = (&self.real[p.yarn], self.real_index(p)?);
+        Some((*real.get(k.checked_sub(1)?)?, *real.get(k + 1)?))
+    }
+
     /// Tangent-chord dofs `[x_prev, x_next]` of a real point, or None at a yarn end.
     fn chord(&self, p: PointRef, d: &mut Vec<u32>) -> Option<()> {
-        let (a, b) = real_neighbours(&self.real[p.yarn], p.point)?;
+        let (a, b) = self.real_neighbours(p)?;
         push3(d, self.l.x(self.node(p.yarn, a)));
         push3(d, self.l.x(self.node(p.yarn, b)));
         Some(())
@@ -148,10 +172,7 @@ impl<'a> Discretization<'a> {
             return None;
         }
         let real = &self.real[pa.yarn];
-        let (kp, kq) = (
-            real.iter().position(|&r| r == pa.point)?,
-            real.iter().position(|&r| r == qa.point)?,
-        );
+        let (kp, kq) = (self.real_index(pa)?, self.real_index(qa)?);
         let (first, last) = if kp <= kq { (kp, kq) } else { (kq, kp) };
         let (p_node, q_node) = if kp <= kq {
             (ct.node, cp.node)
@@ -371,8 +392,8 @@ fn parallel_terms(disc: &Discretization, q: &[f64], p: &SimParams) -> (Vec<Paral
     let x = |n: usize| l.node_x(q, n);
     let side = |me: PointRef, ci: usize, o: PointRef| -> Option<CrossingSide> {
         let c = &f.contacts[ci];
-        let (op, on) = real_neighbours(&disc.real[o.yarn], o.point)?;
-        let (mp, mn) = real_neighbours(&disc.real[me.yarn], me.point)?;
+        let (op, on) = disc.real_neighbours(o)?;
+        let (mp, mn) = disc.real_neighbours(me)?;
         // Normal from the crossing yarn toward this yarn: front/back order.
         let my_axis = x(disc.node(me.yarn, mn)) - x(disc.node(me.yarn, mp));
         let their_axis = x(disc.node(o.yarn, on)) - x(disc.node(o.yarn, op));
@@ -389,7 +410,7 @@ fn parallel_terms(disc: &Discretization, q: &[f64], p: &SimParams) -> (Vec<Paral
         ))
     };
     let (mut t, mut d) = (vec![], vec![]);
-    for (y, ord) in disc.a.order.iter().enumerate() {
+    for (y, ord) in disc.a.orders().iter().enumerate() {
         let contacts: Vec<usize> = ord
             .iter()
             .copied()

@@ -91,8 +91,8 @@ pub fn transfer(f: &Fabric, l: &DofLayout, old: &Assignment, new: &Assignment, q
 /// Position of real point `p` interpolated at its `u` between the real
 /// points of its yarn that bracket it in the new order (`p` excluded).
 fn on_new_chord(f: &Fabric, l: &DofLayout, a: &Assignment, q: &[f64], p: PointRef) -> Option<nalgebra::Vector3<f64>> {
-    let ord = &a.order[p.yarn];
-    let k = ord.iter().position(|&i| i == p.point)?;
+    let ord = &a.orders()[p.yarn];
+    let k = a.rank(p);
     let real = |i: &&usize| {
         !a.is_eil(
             l,
@@ -176,10 +176,7 @@ mod tests {
         let mut q = l.gather(&f);
         // All real: the 0.01 gap to the fixed point at 0.49 is under the
         // safety distance only once the assignment runs.
-        let old = Assignment {
-            order: vec![vec![0, 1, 2, 3], vec![0, 1, 2]],
-            eil: vec![false; l.n_points()],
-        };
+        let old = Assignment::new(vec![vec![0, 1, 2, 3], vec![0, 1, 2]], vec![false; l.n_points()]);
         let new = assign(&f, &l, &q, &rest_segment_lengths(&f), AssignParams::default());
         let a_contact = PointRef { yarn: 0, point: 2 };
         assert!(new.is_eil(&l, a_contact));
@@ -242,14 +239,8 @@ mod tests {
             }
             v
         };
-        let old = Assignment {
-            order: order.clone(),
-            eil: flags(&[p(0, 1), p(1, 1), p(0, 2)]),
-        };
-        let new = Assignment {
-            order,
-            eil: flags(&[p(1, 1), p(0, 2)]),
-        };
+        let old = Assignment::new(order.clone(), flags(&[p(0, 1), p(1, 1), p(0, 2)]));
+        let new = Assignment::new(order, flags(&[p(1, 1), p(0, 2)]));
         // Where contact 1's points were: u 0.4 on yarn 0's chord (0,0,0)-(1,0,0).
         let was_at = interpolated(&f, &l, &old, &q, p(0, 1));
         assert!((was_at - nalgebra::Vector3::new(0.4, 0.0, 0.0)).norm() < 1e-12);
