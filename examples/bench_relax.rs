@@ -26,10 +26,17 @@
 //! of different sizes are not comparable; the minimum over interleaved
 //! repetitions is. Prints the exponent of seconds per iteration against
 //! DOFs between consecutive sizes and fitted over all of them.
+//!
+//! `-- --orderings SIZES` prints, for each case's first Newton matrix, the
+//! Cholesky factor's entries and the numeric factorization's seconds
+//! (fastest of 3, the solver's residual probe included) under scalar and
+//! grouped AMD (`solver::linear::Ordering`), and which one the solver's
+//! default rule keeps.
 
 use knitsim::pattern::parse_str;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
-use knitsim::solver::linear::LinearSolver;
+use knitsim::solver::linear::{DirectParams, DirectSolver, LinearSolver, Ordering};
+use knitsim::solver::newton::Problem;
 use knitsim::topology::{compile, CompileOptions};
 use std::process::Command;
 use std::time::Instant;
@@ -47,6 +54,9 @@ fn main() -> anyhow::Result<()> {
     }
     if args.get(1).map(String::as_str) == Some("--fixed-steps") {
         return fixed_steps(&args[2], args[3].parse()?, args[4].parse()?);
+    }
+    if args.get(1).map(String::as_str) == Some("--orderings") {
+        return orderings(&args[2]);
     }
     if args.get(1).map(String::as_str) == Some("--iteration-cost") {
         return iteration_cost(&args[0], &args[2], args[3].parse()?);
@@ -171,6 +181,48 @@ fn iteration_cost(exe: &str, sizes: &str, reps: usize) -> anyhow::Result<()> {
             steps.join(", "),
             slope(&pts)
         );
+    }
+    Ok(())
+}
+
+/// Factor size and factorization time per ordering; see the module docs.
+fn orderings(sizes: &str) -> anyhow::Result<()> {
+    println!("| pattern | stitches | DOFs | scalar AMD: factor entries | s | grouped AMD: factor entries | s | default keeps |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for name in PATTERNS {
+        for n in sizes.split(',') {
+            let n: usize = n.parse()?;
+            let sim = Simulation::new(
+                compiled(name, n)?,
+                SimParams::default(),
+                LinearSolver::direct(),
+                RelaxOptions::default().h_initial,
+            );
+            let mut problem = sim.problem(Some((sim.h, &sim.q.clone())))?;
+            let mut h = problem.hessian_pattern();
+            let mut g = vec![0.0; sim.q.len()];
+            problem.gradient_hessian(&sim.q, &mut g, &mut h)?;
+            let mut cells = Vec::new();
+            for ordering in [Some(Ordering::Scalar), Some(Ordering::Grouped), None] {
+                let mut solver = DirectSolver::new(DirectParams {
+                    ordering,
+                    ..DirectParams::default()
+                });
+                solver.set_ordering_groups(&problem.ordering_groups());
+                solver.analyze(&h)?;
+                let mut fastest = f64::INFINITY;
+                for _ in 0..3 {
+                    let t = Instant::now();
+                    solver.factorize(&h)?;
+                    fastest = fastest.min(t.elapsed().as_secs_f64());
+                }
+                match ordering {
+                    Some(_) => cells.push(format!("{} | {fastest:.4}", solver.factor_len().unwrap_or(0))),
+                    None => cells.push(format!("{:?}", solver.ordering())),
+                }
+            }
+            println!("| {name} | {n}x{n} | {} | {} |", h.n, cells.join(" | "));
+        }
     }
     Ok(())
 }

@@ -491,6 +491,9 @@ impl Problem for RestartOnTrust<'_> {
     fn blocks(&self) -> Vec<usize> {
         self.problem.blocks()
     }
+    fn ordering_groups(&self) -> Vec<u32> {
+        self.problem.ordering_groups()
+    }
 }
 
 #[cfg(test)]

@@ -87,7 +87,48 @@ impl DofLayout {
     }
 
     /// Position of node `n` in `q`.
+    /// The node each unknown belongs to: `x` coordinates their node, a
+    /// `u` the node of its yarn point (a contact node gets both points'
+    /// `u`). The direct solver orders by these groups.
+    pub fn node_of_dof(&self, f: &Fabric) -> Vec<u32> {
+        let mut node = vec![0u32; self.len()];
+        for i in 0..self.n_nodes {
+            node[self.x(i)..self.x(i) + 3].fill(i as u32);
+        }
+        for (y, yarn) in f.yarns.iter().enumerate() {
+            for (point, p) in yarn.points.iter().enumerate() {
+                node[self.u(PointRef { yarn: y, point })] = p.node as u32;
+            }
+        }
+        node
+    }
+
     pub fn node_x(&self, q: &[f64], node: usize) -> Vec3 {
         Vec3::new(q[3 * node], q[3 * node + 1], q[3 * node + 2])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::assignment::tests::crossing_fabric;
+
+    #[test]
+    fn every_unknown_is_grouped_with_its_node_and_a_contact_node_holds_both_points() {
+        // Node 0 is the contact; each yarn also has its own end node.
+        let nodes = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let f = crossing_fabric(
+            &nodes,
+            [&[(1, 0.0, true), (0, 0.5, false)], &[(2, 0.0, true), (0, 0.5, false)]],
+            1.0,
+            1,
+            1,
+        );
+        let l = DofLayout::new(&f);
+        let g = l.node_of_dof(&f);
+        assert_eq!(g.len(), l.len());
+        assert_eq!(&g[..9], &[0, 0, 0, 1, 1, 1, 2, 2, 2]);
+        let u = |yarn, point| g[l.u(PointRef { yarn, point })];
+        assert_eq!([u(0, 0), u(0, 1), u(1, 0), u(1, 1)], [1, 0, 2, 0]);
     }
 }

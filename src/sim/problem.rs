@@ -13,6 +13,9 @@ pub struct EolProblem {
     pub free: Vec<bool>,
     /// Node `x` blocks of 3 then one block per `u`.
     pub blocks: Vec<usize>,
+    /// The node of each unknown, for the direct solver's ordering (empty
+    /// until [`EolProblem::with_ordering_groups`]).
+    pub ordering_groups: Vec<u32>,
     /// Non-persistent contact of this solve (`None` when off): its stencil
     /// set is in `sets`; this holds the candidate list and the CCD cap.
     pub contact: Option<ContactTerms>,
@@ -37,9 +40,16 @@ impl EolProblem {
             sets,
             free,
             blocks,
+            ordering_groups: Vec::new(),
             contact: None,
             pattern,
         })
+    }
+
+    /// Sets the node of each unknown ([`Problem::ordering_groups`]).
+    pub fn with_ordering_groups(mut self, groups: Vec<u32>) -> Self {
+        self.ordering_groups = groups;
+        self
     }
 
     /// Replaces (or removes, with `None`) the set called `name` and rebuilds
@@ -83,5 +93,8 @@ impl Problem for EolProblem {
     }
     fn blocks(&self) -> Vec<usize> {
         self.blocks.clone()
+    }
+    fn ordering_groups(&self) -> Vec<u32> {
+        self.ordering_groups.clone()
     }
 }

@@ -133,7 +133,8 @@ impl Simulation {
         contact: Option<ContactTerms>,
     ) -> Result<EolProblem, SimError> {
         let free = free_mask(&self.fabric, &self.layout, &self.assignment);
-        let mut problem = EolProblem::new(self.layout.n_nodes, self.layout.len(), sets, free)?;
+        let mut problem = EolProblem::new(self.layout.n_nodes, self.layout.len(), sets, free)?
+            .with_ordering_groups(self.layout.node_of_dof(&self.fabric));
         if let Some(terms) = contact {
             problem.attach_contact(&self.q, terms)?;
         }

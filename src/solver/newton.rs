@@ -56,6 +56,11 @@ pub trait Problem {
     fn blocks(&self) -> Vec<usize> {
         Vec::new()
     }
+    /// The group of each unknown for a direct solver's fill-reducing
+    /// ordering (for a yarn model, the node it belongs to); empty = none.
+    fn ordering_groups(&self) -> Vec<u32> {
+        Vec::new()
+    }
 }
 
 /// Newton parameters.

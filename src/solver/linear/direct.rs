@@ -26,11 +26,15 @@ use crate::solver::sparse::CsrMatrix;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
+pub use ordering::Ordering;
+
+mod ordering;
 
 /// Tuning of the fallback chain; see the module docs.
 #[derive(Clone, Copy, Debug)]
@@ -52,6 +56,11 @@ pub struct DirectParams {
     /// idle workers spin (`sched_yield`) while the stencil threads of the
     /// next assembly want the same cores. Worth turning on with many cores.
     pub parallel: bool,
+    /// Fill-reducing ordering ([`ordering`]): `None` analyses the scalar
+    /// and, when groups are set, the grouped ordering, and keeps the one
+    /// with the smaller factor; `Some` uses that one only (grouped falls
+    /// back to scalar without groups).
+    pub ordering: Option<Ordering>,
 }
 
 impl Default for DirectParams {
@@ -63,6 +72,7 @@ impl Default for DirectParams {
             ldlt_last_resort: true,
             max_rel_residual: 1e-6,
             parallel: false,
+            ordering: None,
         }
     }
 }
@@ -101,6 +111,7 @@ struct Analysis {
     /// Position in the lower values of each column's diagonal (for shifts).
     diag: Vec<Option<usize>>,
     symbolic: SymbolicCholesky<usize>,
+    ordering: Ordering,
 }
 
 /// Sparse Cholesky with symbolic reuse; see the module docs.
@@ -111,6 +122,8 @@ pub struct DirectSolver {
     factor_values: Vec<f64>,
     factor: Option<FactorKind>,
     symbolic_count: usize,
+    /// Group of each unknown for the grouped ordering (empty: none).
+    groups: Vec<u32>,
 }
 
 impl Default for DirectSolver {
@@ -128,7 +141,24 @@ impl DirectSolver {
             factor_values: Vec::new(),
             factor: None,
             symbolic_count: 0,
+            groups: Vec::new(),
         }
+    }
+
+    /// Sets the group of each unknown (for a yarn model, the node it
+    /// belongs to) for the grouped ordering; empty clears them. A change
+    /// drops the current analysis.
+    pub fn set_ordering_groups(&mut self, groups: &[u32]) {
+        if self.groups != groups {
+            self.groups = groups.to_vec();
+            self.analysis = None;
+            self.factor = None;
+        }
+    }
+
+    /// The ordering of the current analysis, once analysed.
+    pub fn ordering(&self) -> Option<Ordering> {
+        self.analysis.as_ref().map(|a| a.ordering)
     }
 
     /// faer's parallelism for factorization and solves (see [`DirectParams::parallel`]).
@@ -179,9 +209,7 @@ impl DirectSolver {
             }
             col_ptr.push(row_idx.len());
         }
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-        let symbolic = factorize_symbolic_cholesky(sym, Side::Lower, SymmetricOrdering::Amd, Default::default())
-            .map_err(|e| DirectError::Symbolic(format!("{e:?}")))?;
+        let (symbolic, ordering) = self.symbolic(&col_ptr, &row_idx)?;
         self.symbolic_count += 1;
         self.lower_values = vec![0.0; row_idx.len()];
         self.factor_values = vec![0.0; symbolic.len_val()];
@@ -193,8 +221,42 @@ impl DirectSolver {
             source,
             diag,
             symbolic,
+            ordering,
         }));
         Ok(true)
+    }
+
+    /// The symbolic factorization under the ordering rule of
+    /// [`DirectParams::ordering`].
+    fn symbolic(
+        &self,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+    ) -> Result<(SymbolicCholesky<usize>, Ordering), DirectError> {
+        let n = col_ptr.len() - 1;
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
+        let analyse = |ordering: SymmetricOrdering<'_, usize>| {
+            factorize_symbolic_cholesky(sym, Side::Lower, ordering, Default::default())
+                .map_err(|e| DirectError::Symbolic(format!("{e:?}")))
+        };
+        let grouped = match self.params.ordering {
+            Some(Ordering::Scalar) => None,
+            _ => ordering::grouped_amd(col_ptr, row_idx, &self.groups),
+        };
+        let grouped = match grouped {
+            Some((fwd, inv)) => Some(analyse(SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n)))?),
+            None => None,
+        };
+        if self.params.ordering == Some(Ordering::Grouped) {
+            if let Some(g) = grouped {
+                return Ok((g, Ordering::Grouped));
+            }
+        }
+        let scalar = analyse(SymmetricOrdering::Amd)?;
+        Ok(match grouped {
+            Some(g) if g.len_val() < scalar.len_val() => (g, Ordering::Grouped),
+            _ => (scalar, Ordering::Scalar),
+        })
     }
 
     /// Numeric factorization of `a` (symbolic analysis first if the pattern changed).

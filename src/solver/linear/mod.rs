@@ -22,7 +22,7 @@ pub mod gpu;
 
 pub use cg::{pcg, BlockJacobi, CgParams, CgResult};
 pub use choice::{select, AutoParams, SelectError, Selection, SolverChoice};
-pub use direct::{DirectError, DirectParams, DirectSolver, FactorKind};
+pub use direct::{DirectError, DirectParams, DirectSolver, FactorKind, Ordering};
 #[cfg(feature = "gpu")]
 pub use gpu::{GpuLinearParams, GpuSolver};
 
@@ -53,6 +53,15 @@ impl LinearSolver {
             LinearSolver::Cg(_) => "cg",
             #[cfg(feature = "gpu")]
             LinearSolver::Gpu(_) => "gpu",
+        }
+    }
+
+    /// The group (node) of each unknown, for the direct solver's grouped
+    /// fill-reducing ordering ([`direct::Ordering`]); the iterative solvers
+    /// do not order, and ignore it.
+    pub fn set_ordering_groups(&mut self, groups: &[u32]) {
+        if let LinearSolver::Direct(s) = self {
+            s.set_ordering_groups(groups);
         }
     }
 

@@ -44,6 +44,7 @@ pub fn minimize<P: Problem + ?Sized>(
         });
     }
     let blocks = problem.blocks();
+    solver.set_ordering_groups(&problem.ordering_groups());
     let mut energy = problem.energy(q);
     if !energy.is_finite() {
         return Err(NewtonError::NonFiniteStart(energy));

@@ -131,3 +131,52 @@ fn the_rayon_pool_and_the_sequential_path_solve_the_same_system() {
     a.residual(&xs, &b, &mut r);
     assert!(dot(&r, &r).sqrt() <= 1e-10 * dot(&b, &b).sqrt());
 }
+
+#[test]
+fn every_ordering_rule_solves_the_same_system_and_reports_its_choice() {
+    // Unknowns in groups of 3 interleaved across the grid, as a node's x
+    // and u are in a yarn model's numbering.
+    let a = grid_laplacian(12, 0.2);
+    let groups: Vec<u32> = (0..a.n).map(|i| (i % (a.n / 3)) as u32).collect();
+    let b: Vec<f64> = (0..a.n).map(|i| ((i * 13) % 7) as f64 - 3.0).collect();
+    let exact = dense(&a).lu().solve(&DVector::from_vec(b.clone())).unwrap();
+    let mut sizes = Vec::new();
+    for ordering in [Some(Ordering::Scalar), Some(Ordering::Grouped), None] {
+        let mut s = DirectSolver::new(DirectParams {
+            ordering,
+            ..DirectParams::default()
+        });
+        s.set_ordering_groups(&groups);
+        let mut x = vec![0.0; a.n];
+        s.solve(&a, &b, &mut x).unwrap();
+        assert!(max_err(&x, &exact) < 1e-10, "{ordering:?}");
+        match ordering {
+            Some(o) => {
+                assert_eq!(s.ordering(), Some(o));
+                sizes.push(s.factor_len().unwrap());
+            }
+            // The default keeps the smaller factor of the two.
+            None => assert_eq!(s.factor_len().unwrap(), sizes[0].min(sizes[1])),
+        }
+    }
+    // Without groups the grouped rule falls back to scalar AMD.
+    let mut s = DirectSolver::new(DirectParams {
+        ordering: Some(Ordering::Grouped),
+        ..DirectParams::default()
+    });
+    let mut x = vec![0.0; a.n];
+    s.solve(&a, &b, &mut x).unwrap();
+    assert_eq!(s.ordering(), Some(Ordering::Scalar));
+}
+
+#[test]
+fn new_groups_drop_the_analysis() {
+    let a = grid_laplacian(6, 0.5);
+    let mut s = DirectSolver::default();
+    assert!(s.analyze(&a).unwrap());
+    assert!(!s.analyze(&a).unwrap());
+    s.set_ordering_groups(&(0..a.n as u32).map(|i| i / 2).collect::<Vec<_>>());
+    assert!(s.analyze(&a).unwrap());
+    s.set_ordering_groups(&(0..a.n as u32).map(|i| i / 2).collect::<Vec<_>>());
+    assert!(!s.analyze(&a).unwrap());
+}
