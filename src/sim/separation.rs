@@ -72,26 +72,24 @@ impl Simulation {
     /// the simulation is made while separation is on.
     pub fn update_contact_normals(&mut self) {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-        let rank = &disc.real_rank;
-        self.contact_normals = self.turned_normals(&disc, &rank);
+        self.contact_normals = self.turned_normals(&disc);
     }
 
     /// The end-of-step work while separation is on: turn the normals, then
     /// split the contacts that pull, on one discretization of the state.
     pub(super) fn separate_after_step(&mut self) -> usize {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-        let rank = &disc.real_rank;
-        self.contact_normals = self.turned_normals(&disc, &rank);
-        let forces = self.normal_forces(&disc, &rank);
+        self.contact_normals = self.turned_normals(&disc);
+        let forces = self.normal_forces(&disc);
         self.split_pulling(forces)
     }
 
     /// [`Self::contact_normals`] turned with the current yarn tangents.
-    fn turned_normals(&self, disc: &Discretization, rank: &[usize]) -> Vec<Vec3> {
+    fn turned_normals(&self, disc: &Discretization) -> Vec<Vec3> {
         let mut normals = self.contact_normals.clone();
         normals.resize(self.fabric.contacts.len(), Vec3::zeros());
         for (c, n_old) in self.fabric.contacts.iter().zip(normals.iter_mut()) {
-            let tangent = |p| self.tangent(disc, rank, p);
+            let tangent = |p| self.tangent(disc, p);
             let (Some(tf), Some(tb)) = (tangent(c.front), tangent(c.back)) else {
                 continue;
             };
@@ -106,13 +104,13 @@ impl Simulation {
 
     /// Unit tangent of a yarn point: along the chord between its real
     /// neighbours (or, for an EIL point, its interpolation neighbours).
-    fn tangent(&self, disc: &Discretization, rank: &[usize], p: PointRef) -> Option<Vec3> {
+    fn tangent(&self, disc: &Discretization, p: PointRef) -> Option<Vec3> {
         let (l, yarn) = (&self.layout, &self.fabric.yarns[p.yarn]);
         let (a, b) = if disc.is_eil(p) {
             self.assignment.interpolation_neighbours(l, p)?
         } else {
             let real = &disc.real[p.yarn];
-            let k = rank[l.point(p)];
+            let k = disc.real_rank[l.point(p)];
             (real[k.saturating_sub(1)], real[(k + 1).min(real.len() - 1)])
         };
         let x = |pi: usize| l.node_x(&self.q, yarn.points[pi].node);
@@ -124,16 +122,15 @@ impl Simulation {
     /// normal yet.
     pub fn contact_normal_forces(&self) -> Vec<Option<f64>> {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
-        let rank = &disc.real_rank;
-        self.normal_forces(&disc, &rank)
+        self.normal_forces(&disc)
     }
 
-    fn normal_forces(&self, disc: &Discretization, rank: &[usize]) -> Vec<Option<f64>> {
+    fn normal_forces(&self, disc: &Discretization) -> Vec<Option<f64>> {
         let Some(sp) = &self.params.separation else {
             return vec![None; self.fabric.contacts.len()];
         };
         let force_on = |p: PointRef| {
-            let (real, k) = (&disc.real[p.yarn], rank[self.layout.point(p)]);
+            let (real, k) = (&disc.real[p.yarn], disc.real_rank[self.layout.point(p)]);
             real_contact_force(&self.fabric, &self.layout, &self.q, &self.params, real, k, p).map(|(f, _)| f)
         };
         self.fabric
