@@ -86,7 +86,6 @@ impl DofLayout {
         }
     }
 
-    /// Position of node `n` in `q`.
     /// The node each unknown belongs to: `x` coordinates their node, a
     /// `u` the node of its yarn point (a contact node gets both points'
     /// `u`). The direct solver orders by these groups.
@@ -103,6 +102,7 @@ impl DofLayout {
         node
     }
 
+    /// Position of node `n` in `q`.
     pub fn node_x(&self, q: &[f64], node: usize) -> Vec3 {
         Vec3::new(q[3 * node], q[3 * node + 1], q[3 * node + 2])
     }

@@ -27,7 +27,7 @@
 //! redone once; this is a rare event (one per yarn end at most).
 //!
 //! The other removal, by the normal-force sign test, is `sim::separation`;
-//! both end in [`Simulation::remove_contacts`].
+//! both end in `Simulation::remove_contacts`.
 
 use super::assignment::{assign, rest_segment_lengths};
 use super::dofs::DofLayout;

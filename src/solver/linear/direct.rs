@@ -2,8 +2,10 @@
 //! triangle of the Newton matrix (MODEL.md sec. 4, "Linear solves").
 //!
 //! Design decisions:
-//! - **Symbolic analysis once per pattern.** The AMD ordering and the
-//!   elimination structure depend only on where the nonzeros are. The Newton
+//! - **Symbolic analysis once per pattern.** The fill-reducing ordering
+//!   (AMD on the unknowns or on their nodes, whichever fills less:
+//!   [`Ordering`]) and the elimination structure depend only on where the
+//!   nonzeros are. The Newton
 //!   matrix keeps its pattern for as long as the node assignment does (EIL
 //!   rows are cancelled in place, never removed), so every Newton iteration
 //!   after the first is a numeric refactorization only. The pattern is
@@ -56,7 +58,7 @@ pub struct DirectParams {
     /// idle workers spin (`sched_yield`) while the stencil threads of the
     /// next assembly want the same cores. Worth turning on with many cores.
     pub parallel: bool,
-    /// Fill-reducing ordering ([`ordering`]): `None` analyses the scalar
+    /// Fill-reducing ordering ([`Ordering`]): `None` analyses the scalar
     /// and, when groups are set, the grouped ordering, and keeps the one
     /// with the smaller factor; `Some` uses that one only (grouped falls
     /// back to scalar without groups).
@@ -243,10 +245,9 @@ impl DirectSolver {
             Some(Ordering::Scalar) => None,
             _ => ordering::grouped_amd(col_ptr, row_idx, &self.groups),
         };
-        let grouped = match grouped {
-            Some((fwd, inv)) => Some(analyse(SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n)))?),
-            None => None,
-        };
+        // A grouped analysis that fails only leaves the scalar one.
+        let grouped =
+            grouped.and_then(|(fwd, inv)| analyse(SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n))).ok());
         if self.params.ordering == Some(Ordering::Grouped) {
             if let Some(g) = grouped {
                 return Ok((g, Ordering::Grouped));
