@@ -17,6 +17,10 @@
 //! patterns' counts depend on rounding (docs/RELAX.md), so a single count
 //! is one sample of a spread; this prints the spread.
 //!
+//! `--case NAME N [SEED [STOP]]` runs one case; `--spread SIZES SEEDS
+//! [STOP]` passes STOP on. STOP is `AssignParams::stop_fraction` (default
+//! 0: off; docs/RELAX.md section 8 measured 0.05).
+//!
 //! `-- --iteration-cost SIZES REPS` measures seconds per Newton iteration
 //! on a workload that does not depend on when the equilibrium test happens
 //! to pass: the first two relaxation steps (every step of which runs to
@@ -47,10 +51,12 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     if args.get(1).map(String::as_str) == Some("--case") {
         let seed = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(0);
-        return run_case(&args[2], args[3].parse()?, seed);
+        let stop = args.get(5).map(|s| s.parse()).transpose()?.unwrap_or(0.0);
+        return run_case(&args[2], args[3].parse()?, seed, stop);
     }
     if args.get(1).map(String::as_str) == Some("--spread") {
-        return spread(&args[0], &args[2], args[3].parse()?);
+        let stop = args.get(4).map(String::as_str).unwrap_or("0");
+        return spread(&args[0], &args[2], args[3].parse()?, stop);
     }
     if args.get(1).map(String::as_str) == Some("--fixed-steps") {
         return fixed_steps(&args[2], args[3].parse()?, args[4].parse()?);
@@ -250,7 +256,7 @@ fn fixed_steps(name: &str, n: usize, steps: usize) -> anyhow::Result<()> {
 
 /// Per case, the Newton iterations and seconds of `seeds` runs (seed 0
 /// unperturbed), then their median.
-fn spread(exe: &str, sizes: &str, seeds: u64) -> anyhow::Result<()> {
+fn spread(exe: &str, sizes: &str, seeds: u64, stop: &str) -> anyhow::Result<()> {
     println!("| pattern | stitches | Newton its per seed | median its | seconds per seed | median s |");
     println!("|---|---|---|---|---|---|");
     for name in PATTERNS {
@@ -258,7 +264,7 @@ fn spread(exe: &str, sizes: &str, seeds: u64) -> anyhow::Result<()> {
             let (mut its, mut secs) = (Vec::new(), Vec::new());
             for seed in 0..seeds.max(1) {
                 let out = Command::new(exe)
-                    .args(["--case", name, n, &seed.to_string()])
+                    .args(["--case", name, n, &seed.to_string(), stop])
                     .output()?;
                 let row = String::from_utf8_lossy(&out.stdout);
                 let cols: Vec<&str> = row.split('|').map(str::trim).collect();
@@ -343,12 +349,14 @@ fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabric> {
 /// column is the potential energy of the relaxed state: two states that
 /// both pass the equilibrium test can differ in it by a quarter
 /// (docs/RELAX.md, "What the default tolerance means").
-fn run_case(name: &str, n: usize, seed: u64) -> anyhow::Result<()> {
+fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Result<()> {
     let mut fabric = compiled(name, n)?;
     jitter(&mut fabric, seed);
     let nodes = fabric.nodes.len();
     let opts = RelaxOptions::default();
-    let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
+    let mut params = SimParams::default();
+    params.assign.stop_fraction = stop_fraction;
+    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let dofs = sim.q.len();
     let t0 = Instant::now();
     let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;

@@ -42,17 +42,26 @@ fn check_contacts(f: &Fabric, name: &str) {
     }
 }
 
-/// Relaxes the small variant of `path` and returns one line of figures, or
-/// what failed. Panics only on NaN or a lost contact (hard errors).
-fn relax_pattern(path: &Path, looseness: &str) -> Result<String, String> {
+/// Relaxes the small variant of `path` and returns one line of figures and
+/// the most unknowns Newton held at a bound in one iteration, or what
+/// failed. Panics only on NaN or a lost contact (hard errors).
+fn relax_pattern(path: &Path, looseness: &str, params: SimParams) -> Result<(String, usize), String> {
     let opts = RelaxOptions::default();
     let name = format!("{} ({looseness})", path.file_stem().unwrap().to_string_lossy());
     let fabric = small_fabric(path, looseness);
     let n_contacts = fabric.contacts.len();
-    let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
+    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let e0 = potential(&sim);
     let before = (sim.newton.max_iterations, sim.newton.max_force_tol, sim.h, sim.h_max);
-    let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
+    let mut held = 0;
+    let rep = relax(
+        &mut sim,
+        opts,
+        None,
+        &mut |s, _| held = held.max(s.held),
+        &mut |_, _| {},
+    )
+    .unwrap();
     // Relaxation's Newton settings and pseudo time step do not leak out.
     let after = (sim.newton.max_iterations, sim.newton.max_force_tol, sim.h, sim.h_max);
     assert_eq!(before, after, "{name}: relax left its settings on the simulation");
@@ -83,7 +92,7 @@ fn relax_pattern(path: &Path, looseness: &str) -> Result<String, String> {
     if !(rep.converged && rep.residual <= opts.tol) {
         return Err(format!("{line}: not below tol {:.0e}", opts.tol));
     }
-    Ok(line)
+    Ok((line, held))
 }
 
 fn shipped() -> Vec<std::path::PathBuf> {
@@ -101,7 +110,7 @@ fn shipped() -> Vec<std::path::PathBuf> {
 fn relax_all(looseness: &str) {
     let failures: Vec<String> = shipped()
         .iter()
-        .filter_map(|path| relax_pattern(path, looseness).err())
+        .filter_map(|path| relax_pattern(path, looseness, SimParams::default()).err())
         .collect();
     assert!(failures.is_empty(), "not relaxed:\n{}", failures.join("\n"));
 }
@@ -117,4 +126,22 @@ fn every_shipped_pattern_relaxes_loose() {
 #[test]
 fn every_shipped_pattern_relaxes_tight() {
     relax_all("tight");
+}
+
+/// The opt-in sliding stops (`AssignParams::stop_fraction`, docs/RELAX.md
+/// section 8) on the float patterns, where contacts slide furthest: the
+/// stops engage (Newton holds points at them) and every check above holds.
+#[test]
+fn float_patterns_relax_with_sliding_stops() {
+    let mut params = SimParams::default();
+    params.assign.stop_fraction = 0.05;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    for name in ["linen-stitch", "fig3-long-slip", "tuck"] {
+        let (line, held) =
+            relax_pattern(&dir.join(format!("{name}.knit")), "loose", params.clone()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(held > 0, "{line}: no point ever reached its stop");
+    }
+    // Off by default: Newton never holds anything.
+    let (line, held) = relax_pattern(&dir.join("linen-stitch.knit"), "loose", SimParams::default()).unwrap();
+    assert_eq!(held, 0, "{line}");
 }

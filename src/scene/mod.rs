@@ -57,6 +57,29 @@ pub fn load_params(path: &Path) -> Result<SimParams, SceneError> {
             });
         }
     }
+    let a = &params.assign;
+    for (name, v) in [
+        ("safety_fraction", a.safety_fraction),
+        ("release_fraction", a.release_fraction),
+        ("stop_fraction", a.stop_fraction),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(SceneError::Invalid {
+                path: p,
+                message: format!("assign.{name} must be a finite non-negative fraction, got {v}"),
+            });
+        }
+    }
+    if a.stop_fraction >= a.safety_fraction && a.stop_fraction > 0.0 {
+        return Err(SceneError::Invalid {
+            path: p,
+            message: format!(
+                "assign.stop_fraction ({}) must be below assign.safety_fraction ({}): a point stopped \
+                 outside the safety distance would never be handed to EIL",
+                a.stop_fraction, a.safety_fraction
+            ),
+        });
+    }
     if let Some(sep) = &params.separation {
         if !(sep.min_pull.is_finite() && sep.min_pull >= 0.0) {
             return Err(SceneError::Invalid {
@@ -112,6 +135,8 @@ mod tests {
         for (text, key) in [
             (r#"{"rod": {"ks": -1.0}}"#, "rod.ks"),
             (r#"{"separation": {"min_pull": -0.1}}"#, "separation.min_pull"),
+            (r#"{"assign": {"stop_fraction": -0.05}}"#, "assign.stop_fraction"),
+            (r#"{"assign": {"stop_fraction": 0.1}}"#, "assign.stop_fraction"),
         ] {
             let (r, path) = load(text);
             let e = r.unwrap_err().to_string();

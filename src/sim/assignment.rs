@@ -26,6 +26,13 @@ pub struct AssignParams {
     /// distance flips kind every step, and every flip restarts Newton from
     /// a perturbed state.
     pub release_fraction: f64,
+    /// Within a step, a sliding real point stops when its segment to a
+    /// real neighbour is this fraction of the rest segment (below
+    /// `safety_fraction`, so the next re-assignment makes it EIL); 0 = no
+    /// stop (the default; 0.05 is half the safety distance). Opt-in: see
+    /// `sim::slide_stops` and docs/RELAX.md section 8 for what it does to
+    /// the relaxation.
+    pub stop_fraction: f64,
 }
 
 impl Default for AssignParams {
@@ -34,6 +41,7 @@ impl Default for AssignParams {
             safety_fraction: 0.1,
             enable_eil: true,
             release_fraction: 0.2,
+            stop_fraction: 0.0,
         }
     }
 }

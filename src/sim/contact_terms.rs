@@ -488,6 +488,9 @@ impl Problem for RestartOnTrust<'_> {
         }
         cap
     }
+    fn bounds(&self, q: &[f64], lower: &mut [f64], upper: &mut [f64]) -> bool {
+        self.problem.bounds(q, lower, upper)
+    }
     fn blocks(&self) -> Vec<usize> {
         self.problem.blocks()
     }

@@ -19,6 +19,7 @@ pub mod relax;
 pub mod removal;
 pub mod separation;
 pub mod simulation;
+pub mod slide_stops;
 pub mod system;
 pub mod transfer;
 

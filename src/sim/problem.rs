@@ -2,6 +2,7 @@
 //! discretization, the free mask, and the block partition for CG.
 
 use super::contact_terms::ContactTerms;
+use super::slide_stops::SlideStops;
 use crate::solver::assembly::{
     assemble, bind_all, gradient, hessian_pattern, total_energy, AnyStencilSet, AssemblyError,
 };
@@ -19,6 +20,8 @@ pub struct EolProblem {
     /// Non-persistent contact of this solve (`None` when off): its stencil
     /// set is in `sets`; this holds the candidate list and the CCD cap.
     pub contact: Option<ContactTerms>,
+    /// Where sliding points stop within this solve (empty: nowhere).
+    pub slide_stops: SlideStops,
     pattern: CsrMatrix,
 }
 
@@ -42,6 +45,7 @@ impl EolProblem {
             blocks,
             ordering_groups: Vec::new(),
             contact: None,
+            slide_stops: SlideStops::default(),
             pattern,
         })
     }
@@ -49,6 +53,12 @@ impl EolProblem {
     /// Sets the node of each unknown ([`Problem::ordering_groups`]).
     pub fn with_ordering_groups(mut self, groups: Vec<u32>) -> Self {
         self.ordering_groups = groups;
+        self
+    }
+
+    /// Bounds the sliding points' `u` for Newton ([`Problem::bounds`]).
+    pub fn with_slide_stops(mut self, stops: SlideStops) -> Self {
+        self.slide_stops = stops;
         self
     }
 
@@ -90,6 +100,9 @@ impl Problem for EolProblem {
     }
     fn max_step(&mut self, q: &[f64], dq: &[f64]) -> f64 {
         self.contact.as_ref().map_or(1.0, |c| c.max_step(q, dq))
+    }
+    fn bounds(&self, q: &[f64], lower: &mut [f64], upper: &mut [f64]) -> bool {
+        self.slide_stops.fill(q, lower, upper)
     }
     fn blocks(&self) -> Vec<usize> {
         self.blocks.clone()

@@ -16,6 +16,7 @@ use super::dofs::DofLayout;
 use super::friction::{coulomb_limits, update_anchors};
 use super::params::SimParams;
 use super::problem::EolProblem;
+use super::slide_stops::SlideStops;
 use super::system::{build_sets, rest_data, Discretization, RestData, StepInputs};
 use super::transfer::transfer;
 use crate::solver::assembly::{gradient, AnyStencilSet, AssemblyError};
@@ -123,7 +124,19 @@ impl Simulation {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
         let sets = self.sets(&disc, inertia);
         let contact = ContactTerms::new(&disc, &self.q, &self.params, &self.contact);
-        self.problem_of(sets, contact)
+        let stops = self.slide_stops(&disc);
+        Ok(self.problem_of(sets, contact)?.with_slide_stops(stops))
+    }
+
+    /// Where sliding points stop within a step (`sim::slide_stops`): none
+    /// without EIL or with `stop_fraction` 0.
+    fn slide_stops(&self, disc: &Discretization) -> SlideStops {
+        let a = &self.params.assign;
+        if !a.enable_eil || a.stop_fraction <= 0.0 {
+            return SlideStops::default();
+        }
+        let margin: Vec<f64> = self.rest.rest_seg.iter().map(|s| a.stop_fraction * s).collect();
+        SlideStops::new(disc, &margin)
     }
 
     /// The Newton problem of these sets, with the thickness contact attached.

@@ -29,6 +29,12 @@
 //!   full steps, so the final iterations are undamped and converge
 //!   quadratically. The decrement test only applies to undamped steps, since
 //!   damping shrinks `dq` and would fake convergence.
+//! - **Optional box bounds** ([`Problem::bounds`], `bounds.rs`): trial
+//!   points are clamped into a per-iteration box and a coordinate pressed
+//!   against its bound is held, so one coordinate at a wall does not cut
+//!   every other coordinate's step (a projected Newton step). The
+//!   relative-residual and decrement tests see only the coordinates not
+//!   held; the caller's force test (`max_force_tol`) sees them all.
 //! - **Bounded.** The loop is capped by `max_iterations`; the line search by
 //!   its own backtrack count; cancellation is polled between iterations.
 
@@ -51,6 +57,16 @@ pub trait Problem {
     /// Largest fraction of `dq` that is safe to take from `q` (CCD). Default: no cap.
     fn max_step(&mut self, _q: &[f64], _dq: &[f64]) -> f64 {
         1.0
+    }
+    /// Box bounds for the next iteration from `q` (a projected Newton step,
+    /// see `bounds.rs`): writes `lower[i] <= q[i] <= upper[i]` for the
+    /// coordinates it bounds (the others arrive as `-inf` / `+inf`) and
+    /// returns whether it bounded any (writing nothing when it returns
+    /// false). A coordinate whose `q[i]` equals a
+    /// bound and whose gradient pushes past it is held for the iteration.
+    /// Default: none.
+    fn bounds(&self, _q: &[f64], _lower: &mut [f64], _upper: &mut [f64]) -> bool {
+        false
     }
     /// Block-Jacobi partition for CG (starts, closed by `n`); empty = scalar Jacobi.
     fn blocks(&self) -> Vec<usize> {
@@ -125,7 +141,8 @@ pub struct IterStats {
     pub elapsed_s: f64,
     /// `E(q)` at the start of the iteration.
     pub energy: f64,
-    /// `|g_free|` at the start of the iteration.
+    /// `|g_free|` at the start of the iteration, over the unknowns not
+    /// held at a bound ([`Problem::bounds`]).
     pub residual: f64,
     pub rel_residual: f64,
     /// Newton decrement `dq^T H dq / 2` (0 when no Newton direction was computed).
@@ -138,6 +155,8 @@ pub struct IterStats {
     /// CG iterations of the linear solve (0 for the direct solver).
     pub linear_iterations: usize,
     pub line_search_trials: usize,
+    /// Unknowns held at a bound this iteration.
+    pub held: usize,
 }
 
 /// Why a Newton solve ended successfully.
@@ -197,6 +216,7 @@ pub struct NewtonHooks<'a> {
     pub cancel: Option<&'a AtomicBool>,
 }
 
+mod bounds;
 mod iterate;
 
 pub use iterate::minimize;

@@ -1,5 +1,6 @@
 //! The Newton loop itself; types and the design rationale are in the parent module.
 
+use super::bounds::Bounds;
 use super::{
     Converged, Direction, IterStats, NewtonError, NewtonHooks, NewtonParams, NewtonReport, NewtonStatus, Problem,
 };
@@ -22,6 +23,7 @@ struct Work {
     rhs: Vec<f64>,
     hv: Vec<f64>,
     trial: Vec<f64>,
+    bounds: Bounds,
 }
 
 /// Minimises `problem.energy` from `q` (updated in place) over the free coordinates.
@@ -55,6 +57,7 @@ pub fn minimize<P: Problem + ?Sized>(
         rhs: vec![0.0; n],
         hv: vec![0.0; n],
         trial: vec![0.0; n],
+        bounds: Bounds::new(n),
     };
     let diag_slots: Vec<Option<usize>> = (0..n).map(|r| if free[r] { h.find(r, r) } else { None }).collect();
     let mut damping = 0.0;
@@ -71,10 +74,19 @@ pub fn minimize<P: Problem + ?Sized>(
         for (gi, _) in w.g.iter_mut().zip(&free).filter(|(_, &f)| !f) {
             *gi = 0.0;
         }
-        let residual = dot(&w.g, &w.g).sqrt();
-        if !residual.is_finite() {
+        if !dot(&w.g, &w.g).is_finite() {
             return Err(NewtonError::NonFiniteGradient(iteration));
         }
+        // The caller's equilibrium test reads every free force, held or not.
+        let max_force = w.g.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if w.bounds.active {
+            // Only a problem that bounded something wrote into the box.
+            w.bounds.lower.fill(f64::NEG_INFINITY);
+            w.bounds.upper.fill(f64::INFINITY);
+        }
+        w.bounds.active = problem.bounds(q, &mut w.bounds.lower, &mut w.bounds.upper);
+        w.bounds.hold(q, &free, &mut w.g, &mut h);
+        let residual = dot(&w.g, &w.g).sqrt();
         let g0 = *g0.get_or_insert(residual);
         let rel_residual = residual / g0.max(params.residual_floor);
         let mut stats = IterStats {
@@ -89,8 +101,8 @@ pub fn minimize<P: Problem + ?Sized>(
             damping,
             linear_iterations: 0,
             line_search_trials: 0,
+            held: w.bounds.held.len(),
         };
-        let max_force = w.g.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let outcome = if rel_residual < params.rel_residual_tol || max_force <= params.max_force_tol {
             Some(NewtonStatus::Converged(Converged::Residual))
         } else {
@@ -251,11 +263,12 @@ fn line_search<P: Problem + ?Sized>(
         return LineOutcome::Blocked;
     }
     let alpha0 = cap.min(1.0);
-    let (dq, trial) = (&w.dq, &mut w.trial);
+    let (dq, trial, bounds) = (&w.dq, &mut w.trial, &w.bounds);
     let energy_at = |alpha: f64| {
         for ((t, qi), di) in trial.iter_mut().zip(q).zip(dq) {
             *t = qi + alpha * di;
         }
+        bounds.project(trial);
         problem.energy(trial)
     };
     match backtracking_armijo(energy_at, e0, slope, alpha0, &params.line_search) {
@@ -268,6 +281,7 @@ fn accept(q: &mut [f64], w: &Work, energy: &mut f64, stats: &mut IterStats, s: L
     for (qi, di) in q.iter_mut().zip(&w.dq) {
         *qi += s.alpha * di;
     }
+    w.bounds.project(q);
     *energy = s.energy;
     stats.step = s.alpha;
     stats.direction = direction;

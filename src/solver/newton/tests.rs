@@ -108,6 +108,80 @@ fn quadratic_converges_in_one_direct_step() {
     assert_eq!(q[0], 0.3, "pinned coordinate moved");
 }
 
+/// [`Quadratic`] with a lower bound on one coordinate, which the
+/// unconstrained minimiser violates.
+struct Boxed {
+    inner: Quadratic,
+    k: usize,
+    lo: f64,
+}
+
+impl Problem for Boxed {
+    fn energy(&mut self, q: &[f64]) -> f64 {
+        self.inner.energy(q)
+    }
+    fn gradient_hessian(&mut self, q: &[f64], g: &mut [f64], h: &mut CsrMatrix) -> Result<(), AssemblyError> {
+        self.inner.gradient_hessian(q, g, h)
+    }
+    fn hessian_pattern(&self) -> CsrMatrix {
+        self.inner.hessian_pattern()
+    }
+    fn free(&self) -> &[bool] {
+        self.inner.free()
+    }
+    fn bounds(&self, _q: &[f64], lower: &mut [f64], _upper: &mut [f64]) -> bool {
+        lower[self.k] = self.lo;
+        true
+    }
+}
+
+#[test]
+fn a_bounded_coordinate_stops_at_its_bound_and_the_rest_converge() {
+    let n = 10;
+    let free_min = Quadratic::new(n, 1.0).exact(0.0);
+    let (k, lo) = (5, free_min[5] + 0.2);
+    let mut p = Boxed {
+        inner: Quadratic::new(n, 1.0),
+        k,
+        lo,
+    };
+    // The constrained minimiser: coordinates 0 and k held (a dense solve).
+    let ad = DMatrix::from_fn(n, n, |r, c| p.inner.a.find(r, c).map_or(0.0, |e| p.inner.a.values[e]));
+    let rest: Vec<usize> = (1..n).filter(|&i| i != k).collect();
+    let aff = DMatrix::from_fn(rest.len(), rest.len(), |r, c| ad[(rest[r], rest[c])]);
+    let rhs = DVector::from_fn(rest.len(), |r, _| p.inner.b[rest[r]] - ad[(rest[r], k)] * lo);
+    let x = aff.lu().solve(&rhs).unwrap();
+    let mut q = vec![0.0; n];
+    q[k] = lo + 1.0;
+    let rep = minimize(
+        &mut p,
+        &mut q,
+        &mut LinearSolver::direct(),
+        &NewtonParams::default(),
+        Default::default(),
+    )
+    .unwrap();
+    assert!(rep.converged(), "{:?}", rep.status);
+    assert!(rep.history.len() <= 4, "{} iterations", rep.history.len());
+    assert_eq!(q[k], lo, "the bounded coordinate ends on its bound");
+    assert_eq!(rep.history.last().unwrap().held, 1);
+    for (r, &i) in rest.iter().enumerate() {
+        assert!((q[i] - x[r]).abs() < 1e-10, "q[{i}] = {} against {}", q[i], x[r]);
+    }
+    // Without the bound the same start goes to the free minimiser, below it.
+    let mut q = vec![0.0; n];
+    q[k] = lo + 1.0;
+    minimize(
+        &mut p.inner,
+        &mut q,
+        &mut LinearSolver::direct(),
+        &NewtonParams::default(),
+        Default::default(),
+    )
+    .unwrap();
+    assert!(q[k] < lo - 0.1);
+}
+
 #[test]
 fn max_step_caps_the_first_step() {
     let mut p = Quadratic::new(8, 0.25);
