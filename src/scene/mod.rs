@@ -41,32 +41,22 @@ pub fn load_params(path: &Path) -> Result<SimParams, SceneError> {
         column: e.column(),
         message: e.to_string(),
     })?;
-    let r = &params.rod;
+    let (r, a) = (&params.rod, &params.assign);
     for (name, v) in [
-        ("ks", r.ks),
-        ("kb", r.kb),
-        ("rho", r.rho),
-        ("radius", r.radius),
-        ("kf", r.kf),
-        ("mu", r.mu),
+        ("rod.ks", r.ks),
+        ("rod.kb", r.kb),
+        ("rod.rho", r.rho),
+        ("rod.radius", r.radius),
+        ("rod.kf", r.kf),
+        ("rod.mu", r.mu),
+        ("assign.safety_fraction", a.safety_fraction),
+        ("assign.release_fraction", a.release_fraction),
+        ("assign.stop_fraction", a.stop_fraction),
     ] {
         if !(v.is_finite() && v >= 0.0) {
             return Err(SceneError::Invalid {
                 path: p,
-                message: format!("rod.{name} must be a finite non-negative number, got {v}"),
-            });
-        }
-    }
-    let a = &params.assign;
-    for (name, v) in [
-        ("safety_fraction", a.safety_fraction),
-        ("release_fraction", a.release_fraction),
-        ("stop_fraction", a.stop_fraction),
-    ] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(SceneError::Invalid {
-                path: p,
-                message: format!("assign.{name} must be a finite non-negative fraction, got {v}"),
+                message: format!("{name} must be a finite non-negative number, got {v}"),
             });
         }
     }

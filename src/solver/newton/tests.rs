@@ -41,12 +41,24 @@ impl Quadratic {
 
     /// Minimiser over the free coordinates with q[0] held, by a dense solve.
     fn exact(&self, q0: f64) -> Vec<f64> {
+        self.exact_holding(&[(0, q0)])
+    }
+
+    /// Minimiser with the coordinates `held` at the given values, by a
+    /// dense solve over the others.
+    fn exact_holding(&self, held: &[(usize, f64)]) -> Vec<f64> {
         let n = self.a.n;
         let ad = DMatrix::from_fn(n, n, |r, c| self.a.find(r, c).map_or(0.0, |k| self.a.values[k]));
-        let aff = ad.view((1, 1), (n - 1, n - 1)).into_owned();
-        let rhs = DVector::from_fn(n - 1, |i, _| self.b[i + 1] - ad[(i + 1, 0)] * q0);
+        let rest: Vec<usize> = (0..n).filter(|i| held.iter().all(|h| h.0 != *i)).collect();
+        let aff = DMatrix::from_fn(rest.len(), rest.len(), |r, c| ad[(rest[r], rest[c])]);
+        let rhs = DVector::from_fn(rest.len(), |r, _| {
+            self.b[rest[r]] - held.iter().map(|&(i, v)| ad[(rest[r], i)] * v).sum::<f64>()
+        });
         let x = aff.lu().solve(&rhs).unwrap();
-        std::iter::once(q0).chain(x.iter().copied()).collect()
+        let mut q = vec![0.0; n];
+        held.iter().for_each(|&(i, v)| q[i] = v);
+        rest.iter().zip(x.iter()).for_each(|(&i, &v)| q[i] = v);
+        q
     }
 }
 
@@ -85,6 +97,18 @@ impl Problem for Quadratic {
     }
 }
 
+/// Newton with the direct solver and default parameters.
+fn solve<P: Problem>(p: &mut P, q: &mut [f64]) -> NewtonReport {
+    minimize(
+        p,
+        q,
+        &mut LinearSolver::direct(),
+        &NewtonParams::default(),
+        Default::default(),
+    )
+    .unwrap()
+}
+
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
@@ -93,14 +117,7 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 fn quadratic_converges_in_one_direct_step() {
     let mut p = Quadratic::new(12, 1.0);
     let mut q = vec![0.3; 12];
-    let rep = minimize(
-        &mut p,
-        &mut q,
-        &mut LinearSolver::direct(),
-        &NewtonParams::default(),
-        Default::default(),
-    )
-    .unwrap();
+    let rep = solve(&mut p, &mut q);
     assert!(rep.converged(), "{:?}", rep.status);
     assert_eq!(rep.steps(), 1);
     assert_eq!(rep.history[0].step, 1.0);
@@ -146,39 +163,19 @@ fn a_bounded_coordinate_stops_at_its_bound_and_the_rest_converge() {
         lo,
     };
     // The constrained minimiser: coordinates 0 and k held (a dense solve).
-    let ad = DMatrix::from_fn(n, n, |r, c| p.inner.a.find(r, c).map_or(0.0, |e| p.inner.a.values[e]));
-    let rest: Vec<usize> = (1..n).filter(|&i| i != k).collect();
-    let aff = DMatrix::from_fn(rest.len(), rest.len(), |r, c| ad[(rest[r], rest[c])]);
-    let rhs = DVector::from_fn(rest.len(), |r, _| p.inner.b[rest[r]] - ad[(rest[r], k)] * lo);
-    let x = aff.lu().solve(&rhs).unwrap();
+    let expect = p.inner.exact_holding(&[(0, 0.0), (k, lo)]);
     let mut q = vec![0.0; n];
     q[k] = lo + 1.0;
-    let rep = minimize(
-        &mut p,
-        &mut q,
-        &mut LinearSolver::direct(),
-        &NewtonParams::default(),
-        Default::default(),
-    )
-    .unwrap();
+    let rep = solve(&mut p, &mut q);
     assert!(rep.converged(), "{:?}", rep.status);
     assert!(rep.history.len() <= 4, "{} iterations", rep.history.len());
     assert_eq!(q[k], lo, "the bounded coordinate ends on its bound");
     assert_eq!(rep.history.last().unwrap().held, 1);
-    for (r, &i) in rest.iter().enumerate() {
-        assert!((q[i] - x[r]).abs() < 1e-10, "q[{i}] = {} against {}", q[i], x[r]);
-    }
+    assert!(max_diff(&q, &expect) < 1e-10, "{q:?} against {expect:?}");
     // Without the bound the same start goes to the free minimiser, below it.
     let mut q = vec![0.0; n];
     q[k] = lo + 1.0;
-    minimize(
-        &mut p.inner,
-        &mut q,
-        &mut LinearSolver::direct(),
-        &NewtonParams::default(),
-        Default::default(),
-    )
-    .unwrap();
+    solve(&mut p.inner, &mut q);
     assert!(q[k] < lo - 0.1);
 }
 
