@@ -8,7 +8,7 @@
 //! - [`energy`], [`rod`], [`contact`]: potentials as stencils (value,
 //!   gradient, Hessian on fixed-size local vectors).
 //! - [`solver`]: the mixed statics-dynamics Newton solve and its linear solvers.
-//! - [`gpu`]: wgpu compute kernels (feature `gpu`).
+//! - `gpu`: wgpu compute kernels (feature `gpu`; the module exists only with it).
 //! - [`scene`]: what to simulate: pins, obstacles, layers, parameters.
 //! - [`io`]: VTK, OBJ, PNG and JSON output, written atomically.
 

@@ -6,7 +6,7 @@
 //!    travels along the rows (passes, floats, cut-and-rejoin, carries).
 //! 2. [`geometry`] (with [`layout`]): a starting shape in which every contact
 //!    node is shared by its two yarns and no other two segments come closer
-//!    than a yarn diameter ([`clearance`] checks it).
+//!    than a yarn diameter ([`mod@clearance`] checks it).
 //! 3. [`assemble`] (with [`rest_length`]): yarns as sorted `(u, x)` lists,
 //!    `u` from Munden's stitch length, and the contacts with their front
 //!    and back yarn points.

@@ -1,7 +1,7 @@
 //! Compile parameters: the rest-length model and the needle limits.
 //!
 //! The initial shape (pitches, z offsets) has its own struct,
-//! [`LayoutOptions`](super::layout::LayoutOptions), since it only affects the
+//! [`LayoutOptions`], since it only affects the
 //! starting geometry while these constants set the relaxed fabric.
 
 use super::error::TopologyError;

@@ -100,7 +100,7 @@ impl Geometry<'_> {
 
     /// A whole pass, drawn left to right (flat layout). Sinkers sit between
     /// two loops of the pass (and at the edges). Where a float meets a loop
-    /// of its own pass the float end drops first (see [`Self::drop_point`]),
+    /// of its own pass the float end drops first (see `drop_point`),
     /// so two colours changing places at a column boundary cross there at
     /// their different float depths instead of sharing a sinker spot.
     pub fn pass_path(&mut self, pass: usize) -> Path {

@@ -4,7 +4,7 @@
 //!   the scalable CPU path and the reference for the GPU kernels.
 //! - [`direct`]: sparse Cholesky (faer) with the symbolic analysis reused
 //!   while the pattern is unchanged; the robust default on the CPU.
-//! - `gpu` (feature `gpu`): [`crate::gpu::GpuPcg`] as an inexact Newton
+//! - `gpu` (feature `gpu`): `crate::gpu::GpuPcg` as an inexact Newton
 //!   solve, with the device buffers kept while the pattern is unchanged.
 //! - [`choice`]: the `--solver auto|cpu-direct|cpu-cg|gpu` rule.
 //!
