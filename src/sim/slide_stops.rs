@@ -4,16 +4,17 @@
 //!
 //! Why: the EIL mechanism (seed 000, sec. 4.1) keeps every real segment at
 //! least the safety distance long, but only at the start of a step. Within
-//! a step nothing stopped a contact's `u` from running onto its real
+//! a step nothing else stops a contact's `u` from running onto its real
 //! neighbour, and the stretch term `|dx|^2 / du` of the closing segment
 //! stiffens without bound as it does. Measured on a 40x40 linen stitch:
 //! stretches of ten Newton iterations with the whole step cut to 1/8 ..
 //! 1/512 and the gradient norm at 1e3 .. 1e4 N while the energy moved in
 //! its fifth digit, until the step's iteration cap let the re-assignment
-//! turn that point EIL. Now a real point may slide until its segment is
-//! `stop_fraction` of the rest segment (0.05, half the safety distance,
-//! when a scene turns it on) and is held there; the next re-assignment finds it inside the
-//! safety distance and hands it to EIL, as the seed intends.
+//! turn that point EIL. With stops, a real point may slide until its
+//! segment is `stop_fraction` of the rest segment (0.05, half the safety
+//! distance, when a scene turns them on; off by default, see docs/RELAX.md
+//! section 8) and is held there; the next re-assignment finds it inside
+//! the safety distance and hands it to EIL, as the seed intends.
 //!
 //! Two sliding neighbours share their gap: each may take half of what is
 //! left above the stop, so no combination of their moves in one iteration
@@ -74,10 +75,6 @@ impl SlideStops {
             }
         }
         SlideStops { stops }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.stops.is_empty()
     }
 
     /// Writes this iteration's bounds of every sliding `u` (see the module
