@@ -1,6 +1,9 @@
 //! Diagnostic: relaxes a pattern and prints every Newton iteration (damping,
 //! direction, line-search trials) and, per step, which energy term carries
-//! the largest free force. `cargo run --release --example relax_trace -- PATTERN [steps]`.
+//! the largest free force, and how many unknowns Newton held at a bound.
+//! `cargo run --release --example relax_trace -- PATTERN [steps]`; the
+//! environment variable `STOP` sets `assign.stop_fraction` (docs/RELAX.md
+//! section 8).
 
 use knitsim::app::load_fabric;
 use knitsim::sim::{SimParams, Simulation};
@@ -12,9 +15,11 @@ fn main() -> anyhow::Result<()> {
     let path = args.get(1).map(String::as_str).unwrap_or("patterns/stockinette.knit");
     let steps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
     let loaded = load_fabric(std::path::Path::new(path))?;
+    let mut params = SimParams::default();
+    params.assign.stop_fraction = std::env::var("STOP").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
     let mut sim = Simulation::new(
         loaded.fabric,
-        SimParams::default(),
+        params,
         LinearSolver::direct(),
         std::env::var("H").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0),
     );
@@ -28,7 +33,7 @@ fn main() -> anyhow::Result<()> {
     for k in 0..steps {
         let mut cb = |s: &knitsim::solver::newton::IterStats, eil: usize| {
             println!(
-                "  it {:3} E {:.6e} |g| {:.3e} rel {:.2e} dec {:.2e} step {:.2e} {:?} damp {:.1e} ls {} eil {}",
+                "  it {:3} E {:.6e} |g| {:.3e} rel {:.2e} dec {:.2e} step {:.2e} {:?} damp {:.1e} ls {} held {} eil {}",
                 s.iteration,
                 s.energy,
                 s.residual,
@@ -38,6 +43,7 @@ fn main() -> anyhow::Result<()> {
                 s.direction,
                 s.damping,
                 s.line_search_trials,
+                s.held,
                 eil
             )
         };
