@@ -7,9 +7,9 @@
 //! a step nothing else stops a contact's `u` from running onto its real
 //! neighbour, and the stretch term `|dx|^2 / du` of the closing segment
 //! stiffens without bound as it does. Measured on a 40x40 linen stitch:
-//! stretches of ten Newton iterations with the whole step cut to 1/8 ..
-//! 1/512 and the gradient norm at 1e3 .. 1e4 N while the energy moved in
-//! its fifth digit, until the step's iteration cap let the re-assignment
+//! stretches of up to nine Newton iterations with the whole step cut to
+//! 1/8 .. 1/256 and the gradient norm at 1e3 .. 1e4 N while the energy
+//! moved in its third digit, until the step's iteration cap let the re-assignment
 //! turn that point EIL. With stops, a real point may slide until its
 //! segment is `stop_fraction` of the rest segment (0.05, half the safety
 //! distance, when a scene turns them on; off by default, see docs/RELAX.md

@@ -4,8 +4,9 @@
 //!
 //! Why: one coordinate whose energy has a wall (a yarn point's `u` sliding
 //! onto its neighbour, where the stretch stiffness `ks / du` grows without
-//! bound) made the line search cut the *whole* step to 1/8 .. 1/512 and the
-//! Levenberg damping climb for every unknown, for ten iterations at a time.
+//! bound) made the line search cut the *whole* step to 1/8 .. 1/256 and the
+//! Levenberg damping climb for every unknown, for up to nine iterations at
+//! a time.
 //! A bound stops that coordinate alone: the trial point is clamped into the
 //! box, and a coordinate pressed against its bound (the gradient pushing it
 //! further) is held for the iteration, so the Newton system is solved on the

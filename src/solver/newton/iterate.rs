@@ -74,7 +74,8 @@ pub fn minimize<P: Problem + ?Sized>(
         for (gi, _) in w.g.iter_mut().zip(&free).filter(|(_, &f)| !f) {
             *gi = 0.0;
         }
-        if !dot(&w.g, &w.g).is_finite() {
+        let full_sq = dot(&w.g, &w.g);
+        if !full_sq.is_finite() {
             return Err(NewtonError::NonFiniteGradient(iteration));
         }
         // The caller's equilibrium test reads every free force, held or not.
@@ -86,7 +87,11 @@ pub fn minimize<P: Problem + ?Sized>(
         }
         w.bounds.active = problem.bounds(q, &mut w.bounds.lower, &mut w.bounds.upper);
         w.bounds.hold(q, &free, &mut w.g, &mut h);
-        let residual = dot(&w.g, &w.g).sqrt();
+        let residual = if w.bounds.held.is_empty() {
+            full_sq.sqrt()
+        } else {
+            dot(&w.g, &w.g).sqrt()
+        };
         let g0 = *g0.get_or_insert(residual);
         let rel_residual = residual / g0.max(params.residual_floor);
         let mut stats = IterStats {
