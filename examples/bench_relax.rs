@@ -37,11 +37,13 @@
 //! grouped AMD (`solver::linear::Ordering`), and which one the solver's
 //! default rule keeps.
 
-use knitsim::pattern::parse_str;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
 use knitsim::solver::linear::{DirectParams, DirectSolver, LinearSolver, Ordering};
 use knitsim::solver::newton::Problem;
-use knitsim::topology::{compile, CompileOptions};
+#[path = "common/mod.rs"]
+mod common;
+
+use common::{compiled, jitter};
 use std::process::Command;
 use std::time::Instant;
 
@@ -300,49 +302,6 @@ fn spread(exe: &str, sizes: &str, seeds: u64, stop: &str) -> anyhow::Result<()> 
         }
     }
     Ok(())
-}
-
-/// Moves every node by up to `1e-9` m per coordinate, from a splitmix64
-/// stream of `seed` (0: no jitter), so runs are repeatable.
-fn jitter(fabric: &mut knitsim::topology::Fabric, seed: u64) {
-    if seed == 0 {
-        return;
-    }
-    let mut state = seed;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    for node in &mut fabric.nodes {
-        for k in 0..3 {
-            node.x[k] += 1e-9 * next();
-        }
-    }
-}
-
-/// The shipped pattern `name` resized to `n x n` stitches, compiled.
-fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabric> {
-    let path = format!("{}/patterns/{name}.knit", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path)?;
-    let text: String = text
-        .lines()
-        .map(|l| {
-            if l.starts_with("width:") {
-                format!("width: {n}")
-            } else if l.starts_with("height:") {
-                format!("height: {n}")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let parsed = parse_str(&text, &path)?;
-    Ok(compile(&parsed.pattern, &CompileOptions::default())?)
 }
 
 /// One case, printed as a table row; `seed` as in [`jitter`]. The last

@@ -25,6 +25,6 @@ pub mod transfer;
 
 pub use contact_terms::{ContactModeName, ContactParams};
 pub use params::{SimParams, Terms};
-pub use relax::{relax, RelaxOptions, RelaxReport};
+pub use relax::{configure as configure_relax, relax, RelaxOptions, RelaxReport};
 pub use separation::SeparationParams;
 pub use simulation::{SimError, Simulation, StepReport};

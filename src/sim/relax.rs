@@ -89,13 +89,11 @@ pub fn relax(
     out
 }
 
-fn relax_with_schedule(
-    sim: &mut Simulation,
-    opts: RelaxOptions,
-    cancel: Option<&AtomicBool>,
-    on_iter: &mut dyn FnMut(&IterStats, usize),
-    on_step: &mut dyn FnMut(usize, f64),
-) -> Result<RelaxReport, SimError> {
+/// Sets the Newton parameters and pseudo time steps of the relaxation
+/// schedule on `sim`, without stepping. [`relax`] starts with this; a
+/// diagnostic that calls `Simulation::step` itself (`examples/relax_steps.rs`)
+/// does too, so it follows the same path step for step.
+pub fn configure(sim: &mut Simulation, opts: &RelaxOptions) {
     sim.newton.max_iterations = opts.newton_per_step;
     sim.newton.rel_residual_tol = opts.newton_rel_tol;
     // The equilibrium test, in force units, at every Newton iterate: a step
@@ -105,6 +103,16 @@ fn relax_with_schedule(
     sim.h = opts.h_initial;
     sim.h_min = opts.h_initial * 1e-4;
     sim.h_max = opts.h_max;
+}
+
+fn relax_with_schedule(
+    sim: &mut Simulation,
+    opts: RelaxOptions,
+    cancel: Option<&AtomicBool>,
+    on_iter: &mut dyn FnMut(&IterStats, usize),
+    on_step: &mut dyn FnMut(usize, f64),
+) -> Result<RelaxReport, SimError> {
+    configure(sim, &opts);
     let mut rep = RelaxReport {
         steps: 0,
         newton_iterations: 0,

@@ -1,0 +1,49 @@
+//! Helpers the relaxation examples share (`#[path]`-included, so it is not
+//! an example target of its own): the shipped patterns resized to `n x n`
+//! stitches, and seeded sub-nanometre jitter of a compiled fabric.
+
+use knitsim::pattern::parse_str;
+use knitsim::topology::{compile, CompileOptions};
+
+/// Moves every node by up to `1e-9` m per coordinate, from a splitmix64
+/// stream of `seed` (0: no jitter), so runs are repeatable.
+pub fn jitter(fabric: &mut knitsim::topology::Fabric, seed: u64) {
+    if seed == 0 {
+        return;
+    }
+    let mut state = seed;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for node in &mut fabric.nodes {
+        for k in 0..3 {
+            node.x[k] += 1e-9 * next();
+        }
+    }
+}
+
+/// The shipped pattern `name` resized to `n x n` stitches, compiled.
+pub fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabric> {
+    let path = format!("{}/patterns/{name}.knit", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path)?;
+    let text: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("width:") {
+                format!("width: {n}")
+            } else if l.starts_with("height:") {
+                format!("height: {n}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let parsed = parse_str(&text, &path)?;
+    Ok(compile(&parsed.pattern, &CompileOptions::default())?)
+}
