@@ -107,18 +107,37 @@ pub fn angle_energy<P: AngleProfile>(
     b: &Vector3<f64>,
     profile: &P,
 ) -> (f64, SVector<f64, 6>, SMatrix<f64, 6, 6>) {
-    let (la, lb) = (a.norm(), b.norm());
-    if la == 0.0 || lb == 0.0 || !(la * lb).is_normal() {
+    let Some((theta, sin, cos)) = angle_terms(a, b) else {
         let (f, _, _) = profile.eval(0.0, 0.0, 1.0);
         return (f, SVector::zeros(), SMatrix::zeros());
+    };
+    let (f, df, d2f) = profile.eval(theta, sin, cos);
+    let (_, gc, hc) = cosine_with_derivatives(a, b);
+    (f, gc * df, gc * gc.transpose() * d2f + hc * df)
+}
+
+/// The value of [`angle_energy`] alone. The line search evaluates energies
+/// many times per Newton iteration and needs no derivatives; this runs the
+/// same floating-point operations as `angle_energy`'s value, so both agree
+/// to the bit and the relaxation path does not depend on which was called.
+pub fn angle_value<P: AngleProfile>(a: &Vector3<f64>, b: &Vector3<f64>, profile: &P) -> f64 {
+    match angle_terms(a, b) {
+        Some((theta, sin, cos)) => profile.eval(theta, sin, cos).0,
+        None => profile.eval(0.0, 0.0, 1.0).0,
+    }
+}
+
+/// `(theta, sin theta, cos theta)` between `a` and `b`; `None` when either
+/// has no direction (zero or subnormal length product).
+fn angle_terms(a: &Vector3<f64>, b: &Vector3<f64>) -> Option<(f64, f64, f64)> {
+    let (la, lb) = (a.norm(), b.norm());
+    if la == 0.0 || lb == 0.0 || !(la * lb).is_normal() {
+        return None;
     }
     let cross = a.cross(b).norm();
     let dot = a.dot(b);
     let theta = cross.atan2(dot);
-    let (sin, cos) = (cross / (la * lb), dot / (la * lb));
-    let (f, df, d2f) = profile.eval(theta, sin, cos);
-    let (_, gc, hc) = cosine_with_derivatives(a, b);
-    (f, gc * df, gc * gc.transpose() * d2f + hc * df)
+    Some((theta, cross / (la * lb), dot / (la * lb)))
 }
 
 #[cfg(test)]

@@ -23,7 +23,7 @@
 //!
 //! with `grad D` = -1 at `u0`, +1 at `u2`.
 
-use super::angle::{angle_energy, QuadraticAngle};
+use super::angle::{angle_energy, angle_value, QuadraticAngle};
 use crate::energy::Stencil;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -59,14 +59,17 @@ impl Bending {
         (x1 - x0, x2 - x1, q[U2] - q[U0])
     }
 
+    fn profile(&self) -> QuadraticAngle {
+        QuadraticAngle {
+            k: self.kb,
+            rest: self.rest_angle,
+        }
+    }
+
     /// Value, gradient and Hessian together.
     pub fn evaluate(&self, q: &SVector<f64, 12>) -> (f64, SVector<f64, 12>, SMatrix<f64, 12, 12>) {
         let (e1, e2, d) = Self::edges(q);
-        let profile = QuadraticAngle {
-            k: self.kb,
-            rest: self.rest_angle,
-        };
-        let (f, g6, h6) = angle_energy(&e1, &e2, &profile);
+        let (f, g6, h6) = angle_energy(&e1, &e2, &self.profile());
         if d <= 0.0 {
             return (f64::INFINITY, SVector::zeros(), SMatrix::zeros());
         }
@@ -91,8 +94,13 @@ impl Bending {
 }
 
 impl Stencil<12> for Bending {
+    /// Without the derivatives (`angle_value`): the same bits as `evaluate`.
     fn value(&self, q: &SVector<f64, 12>) -> f64 {
-        self.evaluate(q).0
+        let (e1, e2, d) = Self::edges(q);
+        if d <= 0.0 {
+            return f64::INFINITY;
+        }
+        angle_value(&e1, &e2, &self.profile()) / d
     }
     fn gradient(&self, q: &SVector<f64, 12>) -> SVector<f64, 12> {
         self.evaluate(q).1
@@ -155,6 +163,29 @@ mod tests {
         // A rest angle of pi/2 makes this the rest state.
         let r = Bending::with_rest_angle(3.0, FRAC_PI_2);
         assert!(r.value(&q).abs() < 1e-15 && r.gradient(&q).norm() < 1e-13);
+    }
+
+    #[test]
+    fn value_alone_has_the_bits_of_evaluate() {
+        // The line search calls `value`, assembly `evaluate`: a last-bit
+        // difference would change the relaxation path (docs/RELAX.md).
+        let mut rng = Rng::new(12);
+        let stencils = [Bending::new(2.0), Bending::with_rest_angle(2.0, 0.7)];
+        for k in 0..200 {
+            let theta = [1e-9, 1e-3, 0.5, 2.0, PI - 1e-6, PI][k % 6];
+            let (l1, l2) = (rng.range(1e-9, 2.0), rng.range(0.3, 2.0));
+            let mut q = bent(&mut rng, theta, l1, l2);
+            if k % 7 == 0 {
+                let x1 = q.fixed_rows::<3>(X1).into_owned();
+                put3(&mut q, X0, &x1); // coincident nodes
+            }
+            if k % 11 == 0 {
+                q[U2] = q[U0]; // no material: infinite
+            }
+            for b in &stencils {
+                assert_eq!(b.value(&q).to_bits(), b.evaluate(&q).0.to_bits(), "{q:?}");
+            }
+        }
     }
 
     #[test]

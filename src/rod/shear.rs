@@ -23,7 +23,7 @@
 //! outside the jammed range; there the energy has a genuine kink, and the
 //! derivatives are kept finite by the floored sine.
 
-use super::angle::{angle_between, angle_energy, cosine_form, AngleProfile};
+use super::angle::{angle_between, angle_energy, angle_value, cosine_form, AngleProfile};
 use crate::energy::Stencil;
 use nalgebra::{SMatrix, SVector, Vector3};
 
@@ -97,8 +97,10 @@ fn tangents(q: &SVector<f64, 12>) -> (Vector3<f64>, Vector3<f64>) {
 }
 
 impl Stencil<12> for Shear {
+    /// Without the derivatives (`angle_value`): the same bits as `evaluate`.
     fn value(&self, q: &SVector<f64, 12>) -> f64 {
-        self.evaluate(q).0
+        let (ta, tb) = tangents(q);
+        angle_value(&ta, &tb, self)
     }
     fn gradient(&self, q: &SVector<f64, 12>) -> SVector<f64, 12> {
         self.evaluate(q).1
@@ -169,6 +171,25 @@ mod tests {
         // Rest state from the configuration: zero energy and force.
         let r = Shear::at_rest(2.0, 0.5, 10.0, &q);
         assert!(r.value(&q).abs() < 1e-20 && r.gradient(&q).norm() < 1e-10);
+    }
+
+    #[test]
+    fn value_alone_has_the_bits_of_evaluate() {
+        let mut rng = Rng::new(54);
+        let s = Shear::new(1.0, 1.4, 0.3, 20.0);
+        for k in 0..200 {
+            let mut q = rng.vector::<12>(1.0);
+            if k % 5 == 0 {
+                let a = q.fixed_rows::<3>(0).into_owned();
+                q.fixed_rows_mut::<3>(3).copy_from(&a); // zero-length tangent
+            }
+            if k % 7 == 0 {
+                let (a0, a1) = (q.fixed_rows::<3>(0).into_owned(), q.fixed_rows::<3>(3).into_owned());
+                q.fixed_rows_mut::<3>(6).copy_from(&a0);
+                q.fixed_rows_mut::<3>(9).copy_from(&(a0 + (a1 - a0) * 2.0)); // parallel tangents
+            }
+            assert_eq!(s.value(&q).to_bits(), s.evaluate(&q).0.to_bits(), "{q:?}");
+        }
     }
 
     #[test]
