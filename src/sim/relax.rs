@@ -84,7 +84,36 @@ pub fn relax(
     on_step: &mut dyn FnMut(usize, f64),
 ) -> Result<RelaxReport, SimError> {
     let saved = (sim.newton, sim.h, sim.h_min, sim.h_max);
-    let out = relax_with_schedule(sim, opts, cancel, on_iter, on_step);
+    configure(sim, &opts);
+    let mut run = || -> Result<RelaxReport, SimError> {
+        let mut rep = RelaxReport {
+            steps: 0,
+            newton_iterations: 0,
+            residual: sim.static_residual()?,
+            converged: false,
+            cancelled: false,
+            max_eil: 0,
+        };
+        while rep.steps < opts.max_steps {
+            if rep.residual <= opts.tol {
+                rep.converged = true;
+                break;
+            }
+            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                rep.cancelled = true;
+                break;
+            }
+            let s = sim.step(false, cancel, on_iter)?;
+            rep.steps += 1;
+            rep.newton_iterations += s.newton_iterations;
+            rep.max_eil = rep.max_eil.max(s.eil_count);
+            rep.residual = sim.static_residual()?;
+            on_step(rep.steps, rep.residual);
+        }
+        rep.converged |= rep.residual <= opts.tol;
+        Ok(rep)
+    };
+    let out = run();
     (sim.newton, sim.h, sim.h_min, sim.h_max) = saved;
     out
 }
@@ -103,40 +132,4 @@ pub fn configure(sim: &mut Simulation, opts: &RelaxOptions) {
     sim.h = opts.h_initial;
     sim.h_min = opts.h_initial * 1e-4;
     sim.h_max = opts.h_max;
-}
-
-fn relax_with_schedule(
-    sim: &mut Simulation,
-    opts: RelaxOptions,
-    cancel: Option<&AtomicBool>,
-    on_iter: &mut dyn FnMut(&IterStats, usize),
-    on_step: &mut dyn FnMut(usize, f64),
-) -> Result<RelaxReport, SimError> {
-    configure(sim, &opts);
-    let mut rep = RelaxReport {
-        steps: 0,
-        newton_iterations: 0,
-        residual: sim.static_residual()?,
-        converged: false,
-        cancelled: false,
-        max_eil: 0,
-    };
-    while rep.steps < opts.max_steps {
-        if rep.residual <= opts.tol {
-            rep.converged = true;
-            break;
-        }
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            rep.cancelled = true;
-            break;
-        }
-        let s = sim.step(false, cancel, on_iter)?;
-        rep.steps += 1;
-        rep.newton_iterations += s.newton_iterations;
-        rep.max_eil = rep.max_eil.max(s.eil_count);
-        rep.residual = sim.static_residual()?;
-        on_step(rep.steps, rep.residual);
-    }
-    rep.converged |= rep.residual <= opts.tol;
-    Ok(rep)
 }
