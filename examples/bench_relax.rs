@@ -37,13 +37,13 @@
 //! grouped AMD (`solver::linear::Ordering`), and which one the solver's
 //! default rule keeps.
 
-use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
-use knitsim::solver::linear::{DirectParams, DirectSolver, LinearSolver, Ordering};
-use knitsim::solver::newton::Problem;
 #[path = "common/mod.rs"]
 mod common;
 
 use common::{compiled, jitter};
+use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
+use knitsim::solver::linear::{DirectParams, DirectSolver, LinearSolver, Ordering};
+use knitsim::solver::newton::Problem;
 use std::process::Command;
 use std::time::Instant;
 
