@@ -127,7 +127,7 @@ pub fn configure(sim: &mut Simulation, opts: &RelaxOptions) {
     sim.newton.rel_residual_tol = opts.newton_rel_tol;
     // The equilibrium test, in force units, at every Newton iterate: a step
     // that passes through equilibrium ends there instead of running on to
-    // its cap (the static test below then decides, without inertia).
+    // its cap (the static test in [`relax`] then decides, without inertia).
     sim.newton.max_force_tol = opts.tol * sim.params.rod.ks;
     sim.h = opts.h_initial;
     sim.h_min = opts.h_initial * 1e-4;
