@@ -16,12 +16,12 @@
 //!   `CsrMatrix::values`. Every Newton iteration then scatters without a
 //!   search.
 //! - **Parallel evaluation, serial scatter.** Stencils are evaluated in
-//!   blocks, each block split across threads ([`threads`]); their results
-//!   are then scattered, and energies summed, in stencil order on one
-//!   thread. So the assembled system is bit-identical for any thread
-//!   count: a run is reproducible on any machine, and evaluating (which is
-//!   where the time goes: PSD projection, bending, wrapping jets) still
-//!   uses every core.
+//!   blocks on [`threads`] threads (spawned once per call, see
+//!   `ordered_map`); the results are scattered, and energies summed, in
+//!   stencil order on the calling thread. So the assembled system is
+//!   bit-identical for any thread count: a run is reproducible on any
+//!   machine, and evaluating (which is where the time goes: PSD
+//!   projection, bending, wrapping jets) still uses every core.
 //! - **Type erasure per set.** A [`StencilSet`] is generic over its stencil
 //!   type and size; [`AnyStencilSet`] hides both so the caller holds all
 //!   energies in one `Vec<Box<dyn AnyStencilSet>>`.
@@ -31,11 +31,14 @@
 use crate::energy::Stencil;
 use crate::solver::sparse::CsrMatrix;
 use nalgebra::{SMatrix, SVector};
+use ordered_map::ordered_map;
 use std::sync::OnceLock;
 
-/// Stencils one thread evaluates per block; large enough that a block
-/// (milliseconds) dwarfs the cost of spawning its scoped threads.
-const PER_THREAD: usize = 256;
+/// Stencils per block of the parallel evaluation: small enough that the
+/// threads share uneven work (PSD projections run only for indefinite
+/// stencils), large enough that handing a block over (a channel message)
+/// costs little against evaluating it (about 0.1 to 10 us per stencil).
+const BLOCK: usize = 64;
 
 /// Threads that evaluate stencils: `KNITSIM_THREADS` if set, else the
 /// machine's available parallelism. Results do not depend on it.
@@ -50,75 +53,13 @@ pub fn threads() -> usize {
     })
 }
 
-/// `f(k)` for every `k` in `0..n`, in order, evaluated block by block on
-/// [`threads`] threads; `emit` receives each block's results in order.
+/// `f(k)` for every `k` in `0..n`, evaluated on [`threads`] threads; `emit`
+/// receives the results block by block, in index order.
 fn for_each_block<T: Send, F>(n: usize, f: F, emit: impl FnMut(usize, &[T]))
 where
     F: Fn(usize) -> T + Sync,
 {
-    for_each_block_on(threads(), n, f, emit)
-}
-
-/// [`for_each_block`] for results that are small (an energy, a gradient):
-/// one block per thread over the whole range, so each call spawns its
-/// threads once. A line search evaluates energies only, about 0.3 us a
-/// stencil, so `PER_THREAD`-sized blocks would spend a fifth of that in
-/// thread spawns.
-fn for_each_chunk<T: Send, F>(n: usize, f: F, emit: impl FnMut(usize, &[T]))
-where
-    F: Fn(usize) -> T + Sync,
-{
-    let workers = threads();
-    let per_thread = n.div_ceil(workers).max(PER_THREAD);
-    for_each_block_sized(workers, per_thread, n, f, emit)
-}
-
-/// [`for_each_block`] on `workers` threads.
-fn for_each_block_on<T: Send, F>(workers: usize, n: usize, f: F, emit: impl FnMut(usize, &[T]))
-where
-    F: Fn(usize) -> T + Sync,
-{
-    for_each_block_sized(workers, PER_THREAD, n, f, emit)
-}
-
-/// Blocks of `workers * per_thread` results, each thread evaluating
-/// `per_thread` of them; `emit` sees every block in order.
-fn for_each_block_sized<T: Send, F>(
-    workers: usize,
-    per_thread: usize,
-    n: usize,
-    f: F,
-    mut emit: impl FnMut(usize, &[T]),
-) where
-    F: Fn(usize) -> T + Sync,
-{
-    let per_thread = per_thread.max(1);
-    let block = workers.max(1) * per_thread;
-    let mut out: Vec<T> = Vec::with_capacity(block);
-    for start in (0..n).step_by(block) {
-        let end = (start + block).min(n);
-        let parts: Vec<Vec<T>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = (start..end)
-                .step_by(per_thread)
-                .skip(1)
-                .map(|a| {
-                    let f = &f;
-                    scope.spawn(move || (a..(a + per_thread).min(end)).map(f).collect::<Vec<T>>())
-                })
-                .collect();
-            let first: Vec<T> = (start..(start + per_thread).min(end)).map(&f).collect();
-            std::iter::once(first)
-                .chain(
-                    handles
-                        .into_iter()
-                        .map(|h| h.join().expect("stencil evaluation panicked")),
-                )
-                .collect()
-        });
-        out.clear();
-        parts.into_iter().for_each(|p| out.extend(p));
-        emit(start, &out);
-    }
+    ordered_map(threads(), BLOCK, n, f, emit)
 }
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -250,7 +191,7 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
     fn energy(&self, q: &[f64]) -> f64 {
         let value = |k: usize| self.stencils[k].value(&Self::gather(q, &self.dofs[k]));
         let mut total = 0.0;
-        for_each_chunk(self.stencils.len(), value, |_, values: &[f64]| {
+        for_each_block(self.stencils.len(), value, |_, values: &[f64]| {
             total = values.iter().fold(total, |t, v| t + v);
         });
         total
@@ -267,7 +208,7 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
                 }
             }
         };
-        for_each_chunk(self.stencils.len(), gradient, scatter);
+        for_each_block(self.stencils.len(), gradient, scatter);
     }
 
     fn accumulate(
@@ -417,5 +358,6 @@ pub fn cancel_fixed_rows(free: &[bool], grad: &mut [f64], h: &mut CsrMatrix) {
     }
 }
 
+mod ordered_map;
 #[cfg(test)]
 mod tests;

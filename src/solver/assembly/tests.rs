@@ -114,37 +114,20 @@ fn unbound_and_bad_maps_are_errors() {
 }
 
 /// Parallel evaluation hands results back in stencil order, whatever the
-/// thread count and however the blocks fall (sizes around the block edges).
+/// thread count and however the blocks fall (sizes around the block edges;
+/// `ordered_map`'s own tests cover uneven work and panics).
 #[test]
 fn blocks_come_back_in_order_for_any_thread_count() {
     let f = |k: usize| (k as f64 * 0.37).sin() / (1.0 + k as f64);
-    for n in [
-        0,
-        1,
-        PER_THREAD - 1,
-        PER_THREAD,
-        2 * PER_THREAD + 1,
-        7 * PER_THREAD + 13,
-    ] {
+    for n in [0, 1, BLOCK - 1, BLOCK, 2 * BLOCK + 1, 7 * BLOCK + 13] {
         let serial: Vec<f64> = (0..n).map(f).collect();
         for workers in [1, 2, 3, 8] {
             let mut got = Vec::new();
-            let mut next_start = 0;
-            for_each_block_on(workers, n, f, |start, block: &[f64]| {
-                assert_eq!(start, next_start, "blocks are emitted in order");
-                next_start += block.len();
+            ordered_map(workers, BLOCK, n, f, |start, block: &[f64]| {
+                assert_eq!(start, got.len(), "blocks are emitted in order");
                 got.extend_from_slice(block);
             });
             assert_eq!(got, serial, "n = {n}, workers = {workers}");
-            // Whole-range chunks (energies, gradients) as well.
-            for per_thread in [1, 5, n.div_ceil(workers).max(1)] {
-                let mut got = Vec::new();
-                for_each_block_sized(workers, per_thread, n, f, |start, block: &[f64]| {
-                    assert_eq!(start, got.len());
-                    got.extend_from_slice(block);
-                });
-                assert_eq!(got, serial, "n = {n}, workers = {workers}, per thread {per_thread}");
-            }
         }
     }
 }
@@ -168,7 +151,7 @@ fn spring_chain(n_nodes: usize, (k0, km): (f64, usize), (r0, rm): (f64, usize)) 
 /// bits as a plain serial loop over its stencils.
 #[test]
 fn a_split_set_assembles_bit_for_bit_like_a_serial_loop() {
-    let n_nodes = 3 * PER_THREAD;
+    let n_nodes = 3 * BLOCK;
     let (springs, dofs) = spring_chain(n_nodes, (1.0, 7), (0.5, 3));
     let q: Vec<f64> = (0..3 * n_nodes)
         .map(|i| (i as f64 * 0.61).cos() + (i / 3) as f64)
@@ -204,7 +187,7 @@ fn a_split_set_assembles_bit_for_bit_like_a_serial_loop() {
 
 #[test]
 fn the_gradient_alone_matches_the_assembled_gradient_with_fixed_rows_zero() {
-    let n_nodes = 2 * PER_THREAD + 5;
+    let n_nodes = 2 * BLOCK + 5;
     let (springs, dofs) = spring_chain(n_nodes, (2.0, 5), (0.4, 4));
     let q: Vec<f64> = (0..3 * n_nodes)
         .map(|i| (i as f64 * 0.37).sin() + (i / 3) as f64)

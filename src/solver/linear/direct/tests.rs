@@ -180,3 +180,21 @@ fn new_groups_drop_the_analysis() {
     s.set_ordering_groups(&(0..a.n as u32).map(|i| i / 2).collect::<Vec<_>>());
     assert!(!s.analyze(&a).unwrap());
 }
+
+/// `solve` runs each attempt's residual probe beside the solve (on two or
+/// more threads); the answer must be the bits of factorizing first and
+/// solving after, also when the first attempts fail (the singular case).
+#[test]
+fn solve_with_the_probe_alongside_gives_the_bits_of_factorize_then_solve() {
+    for a in [grid_laplacian(12, 0.3), grid_laplacian(6, 0.0)] {
+        let b: Vec<f64> = (0..a.n).map(|i| (0.7 * i as f64).cos()).collect();
+        let mut s = DirectSolver::default();
+        let mut x = vec![0.0; a.n];
+        let kind = s.solve(&a, &b, &mut x).unwrap();
+        let mut t = DirectSolver::default();
+        assert_eq!(t.factorize(&a).unwrap(), kind);
+        let mut y = b.clone();
+        t.solve_in_place(&mut y).unwrap();
+        assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()), "{kind:?}");
+    }
+}
