@@ -278,9 +278,13 @@ impl DirectSolver {
     ) -> Result<FactorKind, DirectError> {
         self.analyze(a)?;
         self.factor = None;
-        let max_diag = a
-            .diagonal()
+        // The diagonal through the analysis' cached slots, not a search per
+        // row (`CsrMatrix::diagonal`); a missing diagonal counts as 0.
+        let an = self.analysis.as_ref().ok_or(DirectError::NotFactorized)?;
+        let max_diag = an
+            .diag
             .iter()
+            .map(|d| d.map_or(0.0, |k| a.values[an.source[k]]))
             .fold(0.0f64, |m, d| m.max(d.abs()))
             .max(f64::MIN_POSITIVE);
         let mut attempts: Vec<FactorKind> = vec![FactorKind::Llt];
