@@ -10,6 +10,10 @@
 //!   rows are cancelled in place, never removed), so every Newton iteration
 //!   after the first is a numeric refactorization only. The pattern is
 //!   compared entry by entry (a memcmp, negligible next to a factorization).
+//! - **Cancelled rows leave the factor.** Rows the assembly turned into
+//!   identity rows keep their couplings in the pattern as explicit zeros;
+//!   the analysis leaves those out (`lower`), so they cost no fill, and is
+//!   redone if a later matrix puts a nonzero there.
 //! - **Lower triangle by a cached gather.** `CsrMatrix` stores both triangles,
 //!   row-major. For a symmetric matrix, row `j` restricted to columns `>= j` is
 //!   column `j` of the lower triangle, so the CSC lower triangle is the upper
@@ -34,8 +38,10 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
+use lower::LowerPattern;
 pub use ordering::Ordering;
 
+mod lower;
 mod ordering;
 
 /// Tuning of the fallback chain; see the module docs.
@@ -106,12 +112,7 @@ pub enum DirectError {
 struct Analysis {
     row_ptr: Vec<usize>,
     col_idx: Vec<u32>,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    /// `lower[k]` is the position in `CsrMatrix::values` of lower entry `k`.
-    source: Vec<usize>,
-    /// Position in the lower values of each column's diagonal (for shifts).
-    diag: Vec<Option<usize>>,
+    lower: LowerPattern,
     symbolic: SymbolicCholesky<usize>,
     ordering: Ordering,
 }
@@ -182,46 +183,26 @@ impl DirectSolver {
         self.analysis.as_ref().map(|a| a.symbolic.len_val())
     }
 
-    /// Runs the symbolic analysis unless `a` has the pattern analysed last.
-    /// Returns whether a new analysis was needed.
+    /// Runs the symbolic analysis unless `a` has the pattern analysed last
+    /// and is zero wherever that analysis left out an identity row's
+    /// couplings (`lower`). Returns whether a new analysis was needed.
     pub fn analyze(&mut self, a: &CsrMatrix) -> Result<bool, DirectError> {
         if let Some(an) = &self.analysis {
-            if an.row_ptr == a.row_ptr && an.col_idx == a.col_idx {
+            if an.row_ptr == a.row_ptr && an.col_idx == a.col_idx && an.lower.fits(a) {
                 return Ok(false);
             }
         }
         self.analysis = None;
         self.factor = None;
-        let n = a.n;
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut source = Vec::new();
-        let mut diag = vec![None; n];
-        col_ptr.push(0);
-        for (j, d) in diag.iter_mut().enumerate() {
-            for k in a.row_ptr[j]..a.row_ptr[j + 1] {
-                let i = a.col_idx[k] as usize;
-                if i >= j {
-                    if i == j {
-                        *d = Some(row_idx.len());
-                    }
-                    row_idx.push(i);
-                    source.push(k);
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let (symbolic, ordering) = self.symbolic(&col_ptr, &row_idx)?;
+        let lower = LowerPattern::new(a);
+        let (symbolic, ordering) = self.symbolic(&lower.col_ptr, &lower.row_idx)?;
         self.symbolic_count += 1;
-        self.lower_values = vec![0.0; row_idx.len()];
+        self.lower_values = vec![0.0; lower.row_idx.len()];
         self.factor_values = vec![0.0; symbolic.len_val()];
         self.analysis = Some(Box::new(Analysis {
             row_ptr: a.row_ptr.clone(),
             col_idx: a.col_idx.clone(),
-            col_ptr,
-            row_idx,
-            source,
-            diag,
+            lower,
             symbolic,
             ordering,
         }));
@@ -282,9 +263,10 @@ impl DirectSolver {
         // row (`CsrMatrix::diagonal`); a missing diagonal counts as 0.
         let an = self.analysis.as_ref().ok_or(DirectError::NotFactorized)?;
         let max_diag = an
+            .lower
             .diag
             .iter()
-            .map(|d| d.map_or(0.0, |k| a.values[an.source[k]]))
+            .map(|d| d.map_or(0.0, |k| a.values[an.lower.source[k]]))
             .fold(0.0f64, |m, d| m.max(d.abs()))
             .max(f64::MIN_POSITIVE);
         let mut attempts: Vec<FactorKind> = vec![FactorKind::Llt];
@@ -330,17 +312,17 @@ impl DirectSolver {
 
     fn try_factor(&mut self, a: &CsrMatrix, kind: FactorKind) -> bool {
         let Some(an) = &self.analysis else { return false };
-        for (dst, &src) in self.lower_values.iter_mut().zip(&an.source) {
+        for (dst, &src) in self.lower_values.iter_mut().zip(&an.lower.source) {
             *dst = a.values[src];
         }
         if let FactorKind::ShiftedLlt { shift } = kind {
             // A structurally missing diagonal cannot be shifted; LLT will fail there.
-            for &d in an.diag.iter().flatten() {
+            for &d in an.lower.diag.iter().flatten() {
                 self.lower_values[d] += shift;
             }
         }
         let n = a.n;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &an.col_ptr, None, &an.row_idx);
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &an.lower.col_ptr, None, &an.lower.row_idx);
         let mat = SparseColMatRef::new(sym, &self.lower_values);
         let par = self.par();
         let ok = match kind {

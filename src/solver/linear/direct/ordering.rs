@@ -71,23 +71,40 @@ pub fn grouped_amd(col_ptr: &[usize], row_idx: &[usize], groups: &[u32]) -> Opti
         MemStack::new(&mut mem),
     )
     .ok()?;
+    // Unknowns coupled to nothing (rows the assembly cancelled, whose
+    // couplings the analysis left out) go first. Left inside their group,
+    // each would split its group's columns into separate supernodes: on a
+    // 40x40 linen stitch that made the numeric factorization 4 times slower
+    // with a factor a quarter smaller.
+    let mut coupled = vec![false; n];
+    for j in 0..n {
+        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+            if i != j {
+                coupled[i] = true;
+                coupled[j] = true;
+            }
+        }
+    }
     // Expand: unknowns of each group in group order, ascending within it.
     let mut start = vec![0usize; m + 1];
-    for &g in groups {
+    for (&g, _) in groups.iter().zip(&coupled).filter(|(_, &c)| c) {
         start[g as usize + 1] += 1;
     }
     for k in 0..m {
         start[k + 1] += start[k];
     }
-    let mut members = vec![0usize; n];
+    let mut members = vec![0usize; start[m]];
     let mut fill = start.clone();
-    for (i, &g) in groups.iter().enumerate() {
+    for (i, (&g, _)) in groups.iter().zip(&coupled).enumerate().filter(|(_, (_, &c))| c) {
         members[fill[g as usize]] = i;
         fill[g as usize] += 1;
     }
-    let forward: Vec<usize> = perm
-        .iter()
-        .flat_map(|&g| members[start[g]..start[g + 1]].iter().copied())
+    let forward: Vec<usize> = (0..n)
+        .filter(|&i| !coupled[i])
+        .chain(
+            perm.iter()
+                .flat_map(|&g| members[start[g]..start[g + 1]].iter().copied()),
+        )
         .collect();
     let mut inverse = vec![0usize; n];
     for (k, &i) in forward.iter().enumerate() {
@@ -130,6 +147,28 @@ mod tests {
             assert!(chunk.iter().all(|&i| groups[i] == groups[chunk[0]]));
             assert!(chunk.windows(2).all(|w| w[0] < w[1]));
         }
+    }
+
+    #[test]
+    fn unknowns_coupled_to_nothing_come_first_and_groups_stay_together() {
+        // Path 0-1-...-8 with unknowns 4 and 7 cut loose (diagonal only).
+        let (mut ptr, mut idx) = (vec![0], vec![]);
+        for j in 0..9 {
+            idx.push(j);
+            if j + 1 < 9 && ![3, 4, 6, 7].contains(&j) {
+                idx.push(j + 1);
+            }
+            ptr.push(idx.len());
+        }
+        let groups: Vec<u32> = (0..9).map(|i| (i / 3) as u32).collect();
+        let (fwd, inv) = grouped_amd(&ptr, &idx, &groups).unwrap();
+        assert_eq!(&fwd[..2], &[4, 7]);
+        for (k, &i) in fwd.iter().enumerate() {
+            assert_eq!(inv[i], k);
+        }
+        // The coupled members of each group are consecutive.
+        let rest: Vec<u32> = fwd[2..].iter().map(|&i| groups[i]).collect();
+        assert!(rest.windows(2).filter(|w| w[0] != w[1]).count() == 2, "{rest:?}");
     }
 
     #[test]

@@ -198,3 +198,41 @@ fn solve_with_the_probe_alongside_gives_the_bits_of_factorize_then_solve() {
         assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()), "{kind:?}");
     }
 }
+
+/// Rows cancelled to identity (as the assembly cancels EIL and pinned
+/// coordinates) leave the factor without their couplings; a later matrix
+/// of the same pattern that couples them again gets a new analysis, and
+/// both solves match the dense ones. (An analysis of a matrix without
+/// identity rows stays valid for one with them, only less lean.)
+#[test]
+fn cancelled_rows_leave_the_factor_and_come_back_when_coupled_again() {
+    let full = grid_laplacian(8, 0.4);
+    let mut a = full.clone();
+    let cancelled = [3usize, 17, 18, 40];
+    for r in 0..a.n {
+        for k in a.row_ptr[r]..a.row_ptr[r + 1] {
+            let c = a.col_idx[k] as usize;
+            if cancelled.contains(&r) || cancelled.contains(&c) {
+                a.values[k] = if r == c { 1.0 } else { 0.0 };
+            }
+        }
+    }
+    let b: Vec<f64> = (0..a.n).map(|i| 1.0 + (i % 5) as f64).collect();
+    let mut t = DirectSolver::default();
+    t.analyze(&full).unwrap();
+    let mut s = DirectSolver::default();
+    let mut x = vec![0.0; a.n];
+    s.solve(&a, &b, &mut x).unwrap();
+    assert!(s.factor_len().unwrap() < t.factor_len().unwrap());
+    let exact = dense(&a).lu().solve(&DVector::from_vec(b.clone())).unwrap();
+    assert!(max_err(&x, &exact) < 1e-10);
+    assert_eq!(s.symbolic_count(), 1);
+    // Same cancellation: the analysis is reused.
+    s.solve(&a, &b, &mut x).unwrap();
+    assert_eq!(s.symbolic_count(), 1);
+    // Coupled again (same pattern): analysed anew, and still exact.
+    s.solve(&full, &b, &mut x).unwrap();
+    assert_eq!(s.symbolic_count(), 2);
+    let exact = dense(&full).lu().solve(&DVector::from_vec(b)).unwrap();
+    assert!(max_err(&x, &exact) < 1e-10);
+}
