@@ -31,8 +31,9 @@
 //! repetitions is. Prints the exponent of seconds per iteration against
 //! DOFs between consecutive sizes and fitted over all of them.
 //!
-//! `-- --orderings SIZES` prints, for each case's first Newton matrix, the
-//! Cholesky factor's entries and the numeric factorization's seconds
+//! `-- --orderings SIZES [STEPS]` prints, for each case's Newton matrix
+//! after STEPS relaxation steps (default 0: the first one), the Cholesky
+//! factor's entries, multiply-adds and numeric factorization seconds
 //! (fastest of 3, the solver's residual probe included) under scalar and
 //! grouped AMD (`solver::linear::Ordering`), and which one the solver's
 //! default rule keeps.
@@ -64,7 +65,8 @@ fn main() -> anyhow::Result<()> {
         return fixed_steps(&args[2], args[3].parse()?, args[4].parse()?);
     }
     if args.get(1).map(String::as_str) == Some("--orderings") {
-        return orderings(&args[2]);
+        let steps = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(0);
+        return orderings(&args[2], steps);
     }
     if args.get(1).map(String::as_str) == Some("--iteration-cost") {
         return iteration_cost(&args[0], &args[2], args[3].parse()?);
@@ -193,19 +195,32 @@ fn iteration_cost(exe: &str, sizes: &str, reps: usize) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Factor size and factorization time per ordering; see the module docs.
-fn orderings(sizes: &str) -> anyhow::Result<()> {
-    println!("| pattern | stitches | DOFs | scalar AMD: factor entries | s | grouped AMD: factor entries | s | default keeps |");
-    println!("|---|---|---|---|---|---|---|---|");
+/// Per case, after `steps` relaxation steps (0: the compiled state), the
+/// next Newton matrix's factor under scalar and grouped AMD: entries,
+/// multiply-adds ([`DirectSolver::factor_flops`]) and the numeric
+/// factorization's seconds (fastest of 3, the residual probe included),
+/// and which one the solver's default rule keeps.
+fn orderings(sizes: &str, steps: usize) -> anyhow::Result<()> {
+    println!("| pattern | stitches | steps before | DOFs | scalar AMD: entries | Gflop | s | grouped AMD: entries | Gflop | s | default keeps |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for name in PATTERNS {
         for n in sizes.split(',') {
             let n: usize = n.parse()?;
-            let sim = Simulation::new(
+            let opts = RelaxOptions::default();
+            let mut sim = Simulation::new(
                 compiled(name, n)?,
                 SimParams::default(),
                 LinearSolver::direct(),
-                RelaxOptions::default().h_initial,
+                opts.h_initial,
             );
+            if steps > 0 {
+                let opts = RelaxOptions {
+                    tol: 0.0,
+                    max_steps: steps,
+                    ..opts
+                };
+                relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
+            }
             let mut problem = sim.problem(Some((sim.h, &sim.q.clone())))?;
             let mut h = problem.hessian_pattern();
             let mut g = vec![0.0; sim.q.len()];
@@ -225,11 +240,15 @@ fn orderings(sizes: &str) -> anyhow::Result<()> {
                     fastest = fastest.min(t.elapsed().as_secs_f64());
                 }
                 match ordering {
-                    Some(_) => cells.push(format!("{} | {fastest:.4}", solver.factor_len().unwrap_or(0))),
+                    Some(_) => cells.push(format!(
+                        "{} | {:.2} | {fastest:.4}",
+                        solver.factor_len().unwrap_or(0),
+                        solver.factor_flops().unwrap_or(f64::NAN) * 1e-9
+                    )),
                     None => cells.push(format!("{:?}", solver.ordering())),
                 }
             }
-            println!("| {name} | {n}x{n} | {} | {} |", h.n, cells.join(" | "));
+            println!("| {name} | {n}x{n} | {steps} | {} | {} |", h.n, cells.join(" | "));
         }
     }
     Ok(())

@@ -183,6 +183,12 @@ impl DirectSolver {
         self.analysis.as_ref().map(|a| a.symbolic.len_val())
     }
 
+    /// Multiply-adds of one numeric factorization, once analysed
+    /// ([`ordering::factor_flops`]).
+    pub fn factor_flops(&self) -> Option<f64> {
+        self.analysis.as_ref().map(|a| ordering::factor_flops(&a.symbolic))
+    }
+
     /// Runs the symbolic analysis unless `a` has the pattern analysed last
     /// and is zero wherever that analysis left out an identity row's
     /// couplings (`lower`). Returns whether a new analysis was needed.

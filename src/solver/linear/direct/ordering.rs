@@ -18,6 +18,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::SymbolicSparseColMatRef;
 
 /// Which ordering an analysis uses.
@@ -111,6 +112,33 @@ pub fn grouped_amd(col_ptr: &[usize], row_idx: &[usize], groups: &[u32]) -> Opti
         inverse[i] = k;
     }
     Some((forward, inverse))
+}
+
+/// Floating-point operations of a numeric factorization under `symbolic`,
+/// counted as multiply-adds. A supernode of `k` columns with `r` rows below
+/// its diagonal block costs `k^3/3` (its dense Cholesky) plus `k^2 r` (the
+/// triangular solve under it) plus `k r^2` (its update of the ancestors);
+/// a simplicial column with `c` entries below the diagonal costs `c^2`.
+pub fn factor_flops(symbolic: &SymbolicCholesky<usize>) -> f64 {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let (begin, end, rows) = (s.supernode_begin(), s.supernode_end(), s.col_ptr_for_row_idx());
+            (0..s.n_supernodes())
+                .map(|k| {
+                    let (c, r) = ((end[k] - begin[k]) as f64, (rows[k + 1] - rows[k]) as f64);
+                    c * c * c / 3.0 + c * c * r + c * r * r
+                })
+                .sum()
+        }
+        SymbolicCholeskyRaw::Simplicial(s) => s
+            .col_ptr()
+            .windows(2)
+            .map(|w| {
+                let below = (w[1] - w[0]).saturating_sub(1) as f64;
+                below * below
+            })
+            .sum(),
+    }
 }
 
 #[cfg(test)]
