@@ -199,6 +199,52 @@ mod tests {
         assert!(rest.windows(2).filter(|w| w[0] != w[1]).count() == 2, "{rest:?}");
     }
 
+    /// Flops of a dense `n x n` lower triangle under the identity ordering,
+    /// as simplicial columns or supernodes, whichever faer chose.
+    #[test]
+    fn factor_flops_count_a_dense_factor_by_hand() {
+        use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymmetricOrdering};
+        use faer::Side;
+        let n = 6;
+        // Upper triangle: faer's identity ordering reads the pattern as given.
+        let (mut ptr, mut idx) = (vec![0], vec![]);
+        for j in 0..n {
+            idx.extend(0..=j);
+            ptr.push(idx.len());
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &ptr, None, &idx);
+        let symbolic =
+            factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, Default::default()).unwrap();
+        let expect = match symbolic.raw() {
+            // Columns with 5, 4, ..., 0 entries below the diagonal.
+            SymbolicCholeskyRaw::Simplicial(_) => 25.0 + 16.0 + 9.0 + 4.0 + 1.0,
+            // Supernodes of c columns, r rows below: c^3/3 + c^2 r + c r^2.
+            SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())
+                .map(|k| {
+                    let c = (s.supernode_end()[k] - s.supernode_begin()[k]) as f64;
+                    let r = (n - s.supernode_end()[k]) as f64;
+                    c * c * c / 3.0 + c * c * r + c * r * r
+                })
+                .sum(),
+        };
+        assert!(
+            (factor_flops(&symbolic) - expect).abs() < 1e-9,
+            "{} vs {expect}",
+            factor_flops(&symbolic)
+        );
+        // A diagonal matrix costs nothing.
+        let diag_ptr: Vec<usize> = (0..=n).collect();
+        let diag_idx: Vec<usize> = (0..n).collect();
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &diag_ptr, None, &diag_idx);
+        let symbolic =
+            factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, Default::default()).unwrap();
+        let ones = match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => 0.0,
+            SymbolicCholeskyRaw::Supernodal(s) => s.n_supernodes() as f64 / 3.0,
+        };
+        assert!((factor_flops(&symbolic) - ones).abs() < 1e-9);
+    }
+
     #[test]
     fn groups_of_the_wrong_length_give_no_ordering() {
         let (ptr, idx) = path(4);
