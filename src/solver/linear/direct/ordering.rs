@@ -75,8 +75,9 @@ pub fn grouped_amd(col_ptr: &[usize], row_idx: &[usize], groups: &[u32]) -> Opti
     // Unknowns coupled to nothing (rows the assembly cancelled, whose
     // couplings the analysis left out) go first. Left inside their group,
     // each would split its group's columns into separate supernodes: on a
-    // 40x40 linen stitch that made the numeric factorization 4 times slower
-    // with a factor a quarter smaller.
+    // 40x40 linen stitch that made the numeric factorizations of the first
+    // two steps 1.5 to 2.6 times slower with a factor 27% smaller
+    // (docs/RELAX.md section 10).
     let mut coupled = vec![false; n];
     for j in 0..n {
         for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
