@@ -23,7 +23,7 @@ fn main() -> anyhow::Result<()> {
     println!("| kc_factor | steps | Newton its | seconds | residual | EIL contacts | max gap / r | median gap / r |");
     println!("|---|---|---|---|---|---|---|---|");
     for kc in factors {
-        let fabric = load_fabric(std::path::Path::new(path))?.fabric;
+        let fabric = load_fabric(std::path::Path::new(path), &Default::default())?.fabric;
         let mut params = SimParams::default();
         params.rod.kc_factor = kc;
         let opts = RelaxOptions::default();

@@ -14,7 +14,7 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let path = args.get(1).map(String::as_str).unwrap_or("patterns/stockinette.knit");
     let steps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
-    let loaded = load_fabric(std::path::Path::new(path))?;
+    let loaded = load_fabric(std::path::Path::new(path), &Default::default())?;
     let mut params = SimParams::default();
     params.assign.stop_fraction = std::env::var("STOP").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
     let mut sim = Simulation::new(

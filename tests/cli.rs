@@ -234,3 +234,44 @@ fn the_separation_scene_key_splits_a_layer_contact_that_pulls() {
         "{stdout}"
     );
 }
+
+/// `--shape-gap` reaches the compiler: the thinned topology of the shipped
+/// linen stitch keeps every contact with fewer nodes, and a negative gap is
+/// an error naming the file that writes nothing.
+#[test]
+fn shape_gap_thins_the_compiled_topology_and_a_negative_gap_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let compiled = |gap: &str| {
+        let out = dir.path().join(format!("linen-{gap}.json"));
+        let run = knitsim(&[
+            "compile",
+            "patterns/linen-stitch.knit",
+            &format!("--shape-gap={gap}"),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        (run, out)
+    };
+    let load = |p: &Path| -> Fabric { serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap() };
+    let (run, full) = compiled("0");
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let (run, thin) = compiled("1");
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let (full, thin) = (load(&full), load(&thin));
+    assert_eq!(full.contacts.len(), thin.contacts.len());
+    assert!(
+        thin.nodes.len() < full.nodes.len(),
+        "{} vs {}",
+        thin.nodes.len(),
+        full.nodes.len()
+    );
+
+    let (run, out) = compiled("-1");
+    assert!(!run.status.success());
+    let stderr = text(&run.stderr);
+    assert!(
+        stderr.contains("linen-stitch.knit") && stderr.contains("shape_gap"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
+}

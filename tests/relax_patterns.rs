@@ -11,7 +11,7 @@
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::solver::newton::Problem;
-use knitsim::topology::Fabric;
+use knitsim::topology::{thin_shape_points, Fabric};
 use std::path::Path;
 
 mod common;
@@ -46,9 +46,20 @@ fn check_contacts(f: &Fabric, name: &str) {
 /// the most unknowns Newton held at a bound in one iteration, or what
 /// failed. Panics only on NaN or a lost contact (hard errors).
 fn relax_pattern(path: &Path, looseness: &str, params: SimParams) -> Result<(String, usize), String> {
+    relax_fabric(path, looseness, 0.0, params)
+}
+
+/// [`relax_pattern`] with the compiled fabric's shape points thinned at
+/// `shape_gap` yarn diameters (`topology::thin`) first.
+fn relax_fabric(path: &Path, looseness: &str, shape_gap: f64, params: SimParams) -> Result<(String, usize), String> {
     let opts = RelaxOptions::default();
-    let name = format!("{} ({looseness})", path.file_stem().unwrap().to_string_lossy());
-    let fabric = small_fabric(path, looseness);
+    let stem = path.file_stem().unwrap().to_string_lossy();
+    let name = match shape_gap > 0.0 {
+        true => format!("{stem} ({looseness}, shape gap {shape_gap})"),
+        false => format!("{stem} ({looseness})"),
+    };
+    let mut fabric = small_fabric(path, looseness);
+    thin_shape_points(&mut fabric, shape_gap);
     let n_contacts = fabric.contacts.len();
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let e0 = potential(&sim);
@@ -107,10 +118,10 @@ fn shipped() -> Vec<std::path::PathBuf> {
     paths
 }
 
-fn relax_all(looseness: &str) {
+fn relax_all(looseness: &str, shape_gap: f64) {
     let failures: Vec<String> = shipped()
         .iter()
-        .filter_map(|path| relax_pattern(path, looseness, SimParams::default()).err())
+        .filter_map(|path| relax_fabric(path, looseness, shape_gap, SimParams::default()).err())
         .collect();
     assert!(failures.is_empty(), "not relaxed:\n{}", failures.join("\n"));
 }
@@ -120,12 +131,26 @@ fn relax_all(looseness: &str) {
 
 #[test]
 fn every_shipped_pattern_relaxes_loose() {
-    relax_all("loose");
+    relax_all("loose", 0.0);
 }
 
 #[test]
 fn every_shipped_pattern_relaxes_tight() {
-    relax_all("tight");
+    relax_all("tight", 0.0);
+}
+
+/// The same checks with the layout's shape points thinned at one yarn
+/// diameter (`CompileOptions::shape_gap`, opt-in; docs/RELAX.md section
+/// 11): fewer, longer segments must not cost any pattern its equilibrium
+/// or a contact.
+#[test]
+fn every_shipped_pattern_relaxes_loose_with_shape_points_thinned() {
+    relax_all("loose", 1.0);
+}
+
+#[test]
+fn every_shipped_pattern_relaxes_tight_with_shape_points_thinned() {
+    relax_all("tight", 1.0);
 }
 
 /// The opt-in sliding stops (`AssignParams::stop_fraction`, docs/RELAX.md

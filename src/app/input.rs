@@ -2,7 +2,7 @@
 
 use crate::io::IoError;
 use crate::pattern::{PatternError, Warning};
-use crate::topology::{compile, CompileOptions, Fabric, TopologyError};
+use crate::topology::{compile, thin_shape_points, CompileOptions, Fabric, TopologyError};
 use std::path::Path;
 
 #[derive(Debug, thiserror::Error)]
@@ -22,10 +22,18 @@ pub struct Loaded {
     pub warnings: Vec<Warning>,
 }
 
-/// `.json` is a saved fabric or simulation state; anything else is a pattern.
-pub fn load_fabric(path: &Path) -> Result<Loaded, InputError> {
+/// `.json` is a saved fabric or simulation state; anything else is a
+/// pattern, compiled with `opts`. A saved fabric gets `opts.shape_gap`'s
+/// thinning too (the other options only act while compiling).
+pub fn load_fabric(path: &Path, opts: &CompileOptions) -> Result<Loaded, InputError> {
+    let topology_error = |source| InputError::Topology {
+        path: path.display().to_string(),
+        source,
+    };
+    opts.validate().map_err(topology_error)?;
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
-        let fabric = crate::io::load_json(path)?;
+        let mut fabric = crate::io::load_json(path)?;
+        thin_shape_points(&mut fabric, opts.shape_gap);
         return Ok(Loaded {
             fabric,
             pattern: None,
@@ -33,10 +41,7 @@ pub fn load_fabric(path: &Path) -> Result<Loaded, InputError> {
         });
     }
     let parsed = crate::pattern::load(path).map_err(Box::new)?;
-    let fabric = compile(&parsed.pattern, &CompileOptions::default()).map_err(|source| InputError::Topology {
-        path: path.display().to_string(),
-        source,
-    })?;
+    let fabric = compile(&parsed.pattern, opts).map_err(topology_error)?;
     Ok(Loaded {
         fabric,
         pattern: Some(parsed.pattern),

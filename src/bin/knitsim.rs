@@ -8,6 +8,7 @@ use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob};
 use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
 use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions, SimParams};
 use knitsim::solver::linear::{select, AutoParams};
+use knitsim::topology::CompileOptions;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -17,6 +18,12 @@ use std::sync::Arc;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// When compiling a pattern, drop the layout's shape points closer than
+    /// this many yarn diameters to a contact (0: keep all). 1 relaxes float
+    /// patterns about 2.5x faster but changes the relaxed shape
+    /// (docs/RELAX.md section 11).
+    #[arg(long, global = true, value_name = "DIAMETERS", default_value_t = 0.0)]
+    shape_gap: f64,
 }
 
 #[derive(Subcommand)]
@@ -101,9 +108,13 @@ fn main() {
 }
 
 fn run(cli: Cli) -> Result<()> {
+    let opts = CompileOptions {
+        shape_gap: cli.shape_gap,
+        ..CompileOptions::default()
+    };
     match cli.command {
-        Command::Compile { pattern, output, stats } => compile(&pattern, &output, stats),
-        Command::Export { input, vtk, obj, png } => export(&input, vtk, obj, png),
+        Command::Compile { pattern, output, stats } => compile(&pattern, &opts, &output, stats),
+        Command::Export { input, vtk, obj, png } => export(&input, &opts, vtk, obj, png),
         Command::Relax {
             input,
             output,
@@ -116,29 +127,27 @@ fn run(cli: Cli) -> Result<()> {
         } => relax(
             &input,
             &output,
-            solver,
-            scene.as_deref(),
-            no_eil,
-            contact,
+            (solver, scene.as_deref(), no_eil, contact),
             RelaxOptions {
                 tol,
                 max_steps,
                 ..RelaxOptions::default()
             },
+            &opts,
         ),
     }
 }
 
-fn load(path: &Path) -> Result<knitsim::app::Loaded> {
-    let loaded = load_fabric(path)?;
+fn load(path: &Path, opts: &CompileOptions) -> Result<knitsim::app::Loaded> {
+    let loaded = load_fabric(path, opts)?;
     for w in &loaded.warnings {
         eprintln!("{w}");
     }
     Ok(loaded)
 }
 
-fn compile(pattern: &Path, output: &Path, stats: bool) -> Result<()> {
-    let loaded = load(pattern)?;
+fn compile(pattern: &Path, opts: &CompileOptions, output: &Path, stats: bool) -> Result<()> {
+    let loaded = load(pattern, opts)?;
     save_json(&loaded.fabric, output)?;
     if stats {
         if let Some(p) = &loaded.pattern {
@@ -149,11 +158,17 @@ fn compile(pattern: &Path, output: &Path, stats: bool) -> Result<()> {
     Ok(())
 }
 
-fn export(input: &Path, vtk: Option<PathBuf>, obj: Option<PathBuf>, png: Option<PathBuf>) -> Result<()> {
+fn export(
+    input: &Path,
+    opts: &CompileOptions,
+    vtk: Option<PathBuf>,
+    obj: Option<PathBuf>,
+    png: Option<PathBuf>,
+) -> Result<()> {
     if vtk.is_none() && obj.is_none() && png.is_none() {
         bail!("nothing to export: give at least one of --vtk, --obj, --png");
     }
-    let f = load(input)?.fabric;
+    let f = load(input, opts)?.fabric;
     if let Some(p) = vtk {
         write_vtk(&f, &p, &VtkOptions::default())?;
         println!("wrote {}", p.display());
@@ -169,19 +184,20 @@ fn export(input: &Path, vtk: Option<PathBuf>, obj: Option<PathBuf>, png: Option<
     Ok(())
 }
 
+/// The relax command's options, as clap parsed them.
+type RelaxFlags<'a> = (SolverChoice, Option<&'a Path>, bool, Option<ContactModeName>);
+
 fn relax(
     input: &Path,
     out: &Path,
-    solver: SolverChoice,
-    scene: Option<&Path>,
-    no_eil: bool,
-    contact: Option<ContactModeName>,
+    (solver, scene, no_eil, contact): RelaxFlags,
     options: RelaxOptions,
+    opts: &CompileOptions,
 ) -> Result<()> {
     if !(options.tol > 0.0 && options.tol.is_finite()) {
         bail!("--tol must be a positive number, got {}", options.tol);
     }
-    let fabric = load(input)?.fabric;
+    let fabric = load(input, opts)?.fabric;
     let mut params = match scene {
         Some(path) => knitsim::scene::load_params(path)?,
         None => SimParams::default(),

@@ -1,6 +1,6 @@
 //! From a pattern to yarn-level topology: the [`Fabric`].
 //!
-//! The compiler runs in three stages, one file each:
+//! The compiler runs in three stages (and an optional fourth), one file each:
 //! 1. [`knit_graph`]: simulate the needles: which loop is pulled through
 //!    which, which loops are held (slips, tucks), and how each yarn piece
 //!    travels along the rows (passes, floats, cut-and-rejoin, carries).
@@ -10,6 +10,8 @@
 //! 3. [`assemble`] (with [`rest_length`]): yarns as sorted `(u, x)` lists,
 //!    `u` from Munden's stitch length, and the contacts with their front
 //!    and back yarn points.
+//! 4. [`thin`] (opt-in, `CompileOptions::shape_gap`): drop shape points
+//!    closer than a few yarn diameters to a contact.
 //!
 //! Contacts per structure (MODEL.md sec. 7):
 //! - knit/purl child through each parent head: 2 stitch contacts (left and
@@ -37,6 +39,7 @@ pub mod rest_length;
 pub mod sample;
 pub mod stack;
 pub mod stats;
+pub mod thin;
 
 pub use clearance::{clearance, ClearanceOptions, ClearanceReport, Violation};
 pub use error::TopologyError;
@@ -45,6 +48,7 @@ pub use layout::LayoutOptions;
 pub use options::CompileOptions;
 pub use stack::stack_layers;
 pub use stats::{stats, Stats};
+pub use thin::thin_shape_points;
 
 use crate::pattern::Pattern;
 
@@ -61,5 +65,7 @@ pub fn compile(p: &Pattern, opts: &CompileOptions) -> Result<Fabric, TopologyErr
     specs.dedup();
     let lay = layout::Layout::new(&p.meta, &opts.layout, on_needle, specs.len())?;
     let geo = geometry::Geometry::new(&graph, &lay);
-    assemble::assemble(&graph, &lay, geo, &p.meta, opts)
+    let mut fabric = assemble::assemble(&graph, &lay, geo, &p.meta, opts)?;
+    thin::thin_shape_points(&mut fabric, opts.shape_gap);
+    Ok(fabric)
 }

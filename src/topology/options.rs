@@ -31,6 +31,11 @@ pub struct CompileOptions {
     /// Rows one loop may span, the row it was made in included (a stitch
     /// slipped once spans 2). Longer slips would not stretch that far.
     pub max_rows_per_loop: usize,
+    /// Drop the layout's shape points closer than this many yarn diameters
+    /// (in rest length) to a contact or to another kept point; 0 keeps them
+    /// all (the default). See [`super::thin`]: fewer unknowns and faster
+    /// float-pattern relaxation, at a measured change of the relaxed shape.
+    pub shape_gap: f64,
     /// The starting geometry.
     pub layout: LayoutOptions,
 }
@@ -45,6 +50,7 @@ impl Default for CompileOptions {
             strand_float_slack: 0.10,
             max_loops_on_needle: 2,
             max_rows_per_loop: 4,
+            shape_gap: 0.0,
             layout: LayoutOptions::default(),
         }
     }
@@ -77,6 +83,13 @@ impl CompileOptions {
                     why: "must be finite and above -0.5",
                 });
             }
+        }
+        if !(self.shape_gap.is_finite() && self.shape_gap >= 0.0) {
+            return Err(TopologyError::BadOption {
+                name: "shape_gap",
+                value: self.shape_gap,
+                why: "must be finite and not negative",
+            });
         }
         if self.max_loops_on_needle == 0 || self.max_loops_on_needle > 2 {
             return Err(TopologyError::BadOption {
