@@ -2,8 +2,8 @@
 //!
 //! Prints, per case: nodes, DOFs, Newton iterations, seconds to
 //! equilibrium (the default `RelaxOptions` tolerance), seconds per Newton
-//! iteration, peak resident memory, and the final static residual; then
-//! the fitted exponent of seconds per iteration against DOFs.
+//! iteration, peak resident memory, the final static residual, the relaxed
+//! energy and bounding box; then the fitted exponent of seconds per iteration against DOFs.
 //!
 //! Each case runs in a child process so its peak memory (`VmHWM`) is its
 //! own. Not a test. Run with
@@ -31,6 +31,10 @@
 //! repetitions is. Prints the exponent of seconds per iteration against
 //! DOFs between consecutive sizes and fitted over all of them.
 //!
+//! `--shape-gap G`, before or after any mode, compiles every case with the
+//! layout's shape points thinned at G yarn diameters
+//! (`CompileOptions::shape_gap`, docs/RELAX.md section 11).
+//!
 //! `-- --orderings SIZES [STEPS]` prints, for each case's Newton matrix
 //! after STEPS relaxation steps (default 0: the first one), the Cholesky
 //! factor's entries, multiply-adds and numeric factorization seconds
@@ -51,7 +55,14 @@ use std::time::Instant;
 const PATTERNS: [&str; 2] = ["stockinette", "linen-stitch"];
 
 fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().collect();
+    let mut args: Vec<String> = std::env::args().collect();
+    // `--shape-gap G` (anywhere): compile with `CompileOptions::shape_gap`
+    // = G. Passed to the child processes through the environment.
+    if let Some(i) = args.iter().position(|a| a == "--shape-gap") {
+        let gap: f64 = args.get(i + 1).map(|g| g.parse()).transpose()?.unwrap_or(0.0);
+        std::env::set_var(common::SHAPE_GAP_VAR, gap.to_string());
+        args.drain(i..(i + 2).min(args.len()));
+    }
     if args.get(1).map(String::as_str) == Some("--case") {
         let seed = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(0);
         let stop = args.get(5).map(|s| s.parse()).transpose()?.unwrap_or(0.0);
@@ -79,9 +90,9 @@ fn main() -> anyhow::Result<()> {
         .map(str::parse)
         .collect::<Result<_, _>>()?;
     println!(
-        "| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual | energy (J) |"
+        "| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual | energy (J) | extent (mm) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut fit: Vec<(f64, f64)> = Vec::new();
     for name in PATTERNS {
         for &n in &sizes {
@@ -340,8 +351,9 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
     let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
     let secs = t0.elapsed().as_secs_f64();
     let energy: f64 = sim.problem(None)?.breakdown(&sim.q).iter().map(|(_, e)| e).sum();
+    let extent = extent_mm(&sim.snapshot());
     println!(
-        "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} | {energy:.4e} |",
+        "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} | {energy:.4e} | {extent} |",
         rep.newton_iterations,
         secs / rep.newton_iterations.max(1) as f64,
         peak_mib(),
@@ -349,6 +361,20 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
         if rep.converged { "" } else { " (not converged)" }
     );
     Ok(())
+}
+
+/// The relaxed fabric's bounding box, `x by y by z` in millimetres: what a
+/// designer sees of the shape (width, height, and how far it curls).
+fn extent_mm(f: &knitsim::topology::Fabric) -> String {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for node in &f.nodes {
+        for k in 0..3 {
+            lo[k] = lo[k].min(node.x[k]);
+            hi[k] = hi[k].max(node.x[k]);
+        }
+    }
+    let mm = |k: usize| (hi[k] - lo[k]) * 1e3;
+    format!("{:.1} x {:.1} x {:.1}", mm(0), mm(1), mm(2))
 }
 
 /// Peak resident set size of this process (Linux `VmHWM`), MiB; NaN elsewhere.

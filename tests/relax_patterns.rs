@@ -59,7 +59,10 @@ fn relax_fabric(path: &Path, looseness: &str, shape_gap: f64, params: SimParams)
         false => format!("{stem} ({looseness})"),
     };
     let mut fabric = small_fabric(path, looseness);
-    thin_shape_points(&mut fabric, shape_gap);
+    if shape_gap > 0.0 && thin_shape_points(&mut fabric, shape_gap) == 0 {
+        // The same fabric as the default run: nothing new to test.
+        return Ok((format!("{name}: nothing thinned"), 0));
+    }
     let n_contacts = fabric.contacts.len();
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let e0 = potential(&sim);
@@ -119,11 +122,29 @@ fn shipped() -> Vec<std::path::PathBuf> {
 }
 
 fn relax_all(looseness: &str, shape_gap: f64) {
-    let failures: Vec<String> = shipped()
-        .iter()
-        .filter_map(|path| relax_fabric(path, looseness, shape_gap, SimParams::default()).err())
-        .collect();
+    let (mut failures, mut unchanged) = (Vec::new(), Vec::new());
+    for path in shipped() {
+        match relax_fabric(&path, looseness, shape_gap, SimParams::default()) {
+            Ok((line, _)) if line.ends_with("nothing thinned") => {
+                unchanged.push(path.file_stem().unwrap().to_string_lossy().into_owned())
+            }
+            Ok(_) => {}
+            Err(e) => failures.push(e),
+        }
+    }
     assert!(failures.is_empty(), "not relaxed:\n{}", failures.join("\n"));
+    // Every float pattern has shape points near its contacts (the leg
+    // bends around its floats), so thinning must have changed it; the
+    // knit-purl ones may come out as they were.
+    let floats = ["linen-stitch", "honeycomb", "mosaic", "jacquard", "fig3-"];
+    let missed: Vec<_> = unchanged
+        .iter()
+        .filter(|n| floats.iter().any(|f| n.starts_with(f)))
+        .collect();
+    assert!(
+        missed.is_empty(),
+        "thinning changed nothing in {missed:?} ({looseness})"
+    );
 }
 
 // Issue 3 acceptance 5: every shipped pattern (knit-purl, slip, tuck and
@@ -141,8 +162,8 @@ fn every_shipped_pattern_relaxes_tight() {
 
 /// The same checks with the layout's shape points thinned at one yarn
 /// diameter (`CompileOptions::shape_gap`, opt-in; docs/RELAX.md section
-/// 11): fewer, longer segments must not cost any pattern its equilibrium
-/// or a contact.
+/// 11), on every pattern that thinning changes: fewer, longer segments
+/// must not cost any pattern its equilibrium or a contact.
 #[test]
 fn every_shipped_pattern_relaxes_loose_with_shape_points_thinned() {
     relax_all("loose", 1.0);

@@ -27,7 +27,14 @@ pub fn jitter(fabric: &mut knitsim::topology::Fabric, seed: u64) {
     }
 }
 
-/// The shipped pattern `name` resized to `n x n` stitches, compiled.
+/// Environment variable holding `CompileOptions::shape_gap` for
+/// [`compiled`] (unset: the default, 0). `bench_relax --shape-gap` sets it
+/// so its child processes compile the same way.
+#[allow(dead_code)]
+pub const SHAPE_GAP_VAR: &str = "KNITSIM_BENCH_SHAPE_GAP";
+
+/// The shipped pattern `name` resized to `n x n` stitches, compiled (with
+/// the shape gap of [`SHAPE_GAP_VAR`], if set).
 pub fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabric> {
     let path = format!("{}/patterns/{name}.knit", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path)?;
@@ -45,5 +52,13 @@ pub fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabri
         .collect::<Vec<_>>()
         .join("\n");
     let parsed = parse_str(&text, &path)?;
-    Ok(compile(&parsed.pattern, &CompileOptions::default())?)
+    let shape_gap = match std::env::var(SHAPE_GAP_VAR) {
+        Ok(g) => g.parse()?,
+        Err(_) => 0.0,
+    };
+    let opts = CompileOptions {
+        shape_gap,
+        ..CompileOptions::default()
+    };
+    Ok(compile(&parsed.pattern, &opts)?)
 }

@@ -19,8 +19,8 @@ struct Cli {
     #[command(subcommand)]
     command: Command,
     /// When compiling a pattern, drop the layout's shape points closer than
-    /// this many yarn diameters to a contact (0: keep all). 1 relaxes float
-    /// patterns about 2.5x faster but changes the relaxed shape
+    /// this many yarn diameters to a contact (0: keep all). At 1, float
+    /// patterns relax several times faster but curl further out of plane
     /// (docs/RELAX.md section 11).
     #[arg(long, global = true, value_name = "DIAMETERS", default_value_t = 0.0)]
     shape_gap: f64,
