@@ -32,8 +32,8 @@ pub struct CompileOptions {
     /// slipped once spans 2). Longer slips would not stretch that far.
     pub max_rows_per_loop: usize,
     /// Drop the layout's shape points closer than this many yarn diameters
-    /// (in rest length) to a contact or to another kept point; 0 keeps them
-    /// all (the default). See [`super::thin`]: fewer unknowns and faster
+    /// (in rest length) to a contact or pin on their yarn; 0 keeps them all
+    /// (the default). See [`super::thin`]: fewer unknowns and faster
     /// float-pattern relaxation, at a measured change of the relaxed shape.
     pub shape_gap: f64,
     /// The starting geometry.

@@ -44,16 +44,27 @@ pub fn thin_shape_points(fabric: &mut Fabric, gap_diameters: f64) -> usize {
             uses[p] += 2;
         }
     }
+    // Points a contact names stay, even in a hand-edited fabric whose
+    // contact names a point off its node.
+    let mut named: Vec<Vec<bool>> = fabric.yarns.iter().map(|y| vec![false; y.points.len()]).collect();
+    for c in &fabric.contacts {
+        for p in [c.front, c.back] {
+            if let Some(flag) = named.get_mut(p.yarn).and_then(|y| y.get_mut(p.point)) {
+                *flag = true;
+            }
+        }
+    }
     let mut point_map: Vec<Vec<Option<usize>>> = Vec::with_capacity(fabric.yarns.len());
     let mut dropped = 0;
-    for yarn in &mut fabric.yarns {
+    for (yi, yarn) in fabric.yarns.iter_mut().enumerate() {
         let radius = fabric.meta.yarns.get(yarn.spec).map_or(0.0, |s| s.radius);
         let gap = gap_diameters * 2.0 * radius;
         let n = yarn.points.len();
         let droppable: Vec<bool> = (0..n)
             .map(|i| {
                 let p = &yarn.points[i];
-                i > 0 && i + 1 < n && p.fixed_u && !p.eil && uses[p.node] == 1 && !fabric.nodes[p.node].pinned
+                let alone = uses[p.node] == 1 && !named[yi][i] && !fabric.nodes[p.node].pinned;
+                i > 0 && i + 1 < n && p.fixed_u && !p.eil && alone
             })
             .collect();
         let is_anchor = |i: usize| i > 0 && i + 1 < n && !droppable[i];
@@ -98,8 +109,10 @@ pub fn thin_shape_points(fabric: &mut Fabric, gap_diameters: f64) -> usize {
     }
     for c in &mut fabric.contacts {
         for p in [&mut c.front, &mut c.back] {
-            // Contact points are never droppable (their node has uses > 1).
-            p.point = point_map[p.yarn][p.point].expect("a contact point is kept");
+            // Named points are never dropped, so the map has them.
+            if let Some(kept) = point_map.get(p.yarn).and_then(|m| m.get(p.point)).copied().flatten() {
+                p.point = kept;
+            }
         }
     }
     renumber_used_nodes(fabric);
@@ -271,6 +284,35 @@ mod tests {
             let inner = &y.points[1..y.points.len() - 1];
             assert!(inner.iter().all(|p| !p.fixed_u || refs[p.node] > 1));
         }
+    }
+
+    /// A hand-edited fabric whose contact names a shape point (not the
+    /// contact's node): that point stays, and nothing panics.
+    #[test]
+    fn a_point_a_contact_names_stays_even_off_its_node() {
+        let mut f = compiled(&LINEN, 0.0);
+        let mut thinned = f.clone();
+        thin_shape_points(&mut thinned, 1.0);
+        // A shape point that thinning drops: in `f`, not in `thinned`.
+        let (yi, pi) = f
+            .yarns
+            .iter()
+            .enumerate()
+            .find_map(|(yi, y)| {
+                let t = &thinned.yarns[yi];
+                let gone = (1..y.points.len() - 1).find(|&i| !t.points.iter().any(|q| q.u == y.points[i].u))?;
+                Some((yi, gone))
+            })
+            .expect("thinning drops a point");
+        let u = f.yarns[yi].points[pi].u;
+        f.contacts[0].front = crate::topology::PointRef { yarn: yi, point: pi };
+        thin_shape_points(&mut f, 1.0);
+        let kept = f.yarns[yi]
+            .points
+            .iter()
+            .position(|q| q.u == u)
+            .expect("the named point stays");
+        assert_eq!(f.contacts[0].front, crate::topology::PointRef { yarn: yi, point: kept });
     }
 
     #[test]
