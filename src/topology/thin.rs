@@ -71,22 +71,22 @@ pub fn thin_shape_points(fabric: &mut Fabric, gap_diameters: f64) -> usize {
         // Rest-length distance to the nearest anchor behind and ahead.
         let mut behind = vec![f64::INFINITY; n];
         let mut last = None;
-        for i in 0..n {
+        for (i, (p, d)) in yarn.points.iter().zip(&mut behind).enumerate() {
             if let Some(a) = last {
-                behind[i] = yarn.points[i].u - a;
+                *d = p.u - a;
             }
             if is_anchor(i) {
-                last = Some(yarn.points[i].u);
+                last = Some(p.u);
             }
         }
         let mut ahead = vec![f64::INFINITY; n];
         let mut next = None;
-        for i in (0..n).rev() {
+        for (i, (p, d)) in yarn.points.iter().zip(&mut ahead).enumerate().rev() {
             if let Some(a) = next {
-                ahead[i] = a - yarn.points[i].u;
+                *d = a - p.u;
             }
             if is_anchor(i) {
-                next = Some(yarn.points[i].u);
+                next = Some(p.u);
             }
         }
         let keep: Vec<bool> = (0..n)
