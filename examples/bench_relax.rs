@@ -46,7 +46,8 @@
 mod common;
 
 use common::{compiled, jitter};
-use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
+use knitsim::scene::params_for;
+use knitsim::sim::{relax, RelaxOptions, Simulation};
 use knitsim::solver::linear::{DirectParams, DirectSolver, LinearSolver, Ordering};
 use knitsim::solver::newton::Problem;
 use std::process::Command;
@@ -218,12 +219,9 @@ fn orderings(sizes: &str, steps: usize) -> anyhow::Result<()> {
         for n in sizes.split(',') {
             let n: usize = n.parse()?;
             let opts = RelaxOptions::default();
-            let mut sim = Simulation::new(
-                compiled(name, n)?,
-                SimParams::default(),
-                LinearSolver::direct(),
-                opts.h_initial,
-            );
+            let fabric = compiled(name, n)?;
+            let params = params_for(&fabric, None)?;
+            let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
             if steps > 0 {
                 let opts = RelaxOptions {
                     tol: 0.0,
@@ -274,7 +272,8 @@ fn fixed_steps(name: &str, n: usize, steps: usize) -> anyhow::Result<()> {
         max_steps: steps,
         ..RelaxOptions::default()
     };
-    let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
+    let params = params_for(&fabric, None)?;
+    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let t0 = Instant::now();
     let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
     println!(
@@ -343,7 +342,7 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
     jitter(&mut fabric, seed);
     let nodes = fabric.nodes.len();
     let opts = RelaxOptions::default();
-    let mut params = SimParams::default();
+    let mut params = params_for(&fabric, None)?;
     params.assign.stop_fraction = stop_fraction;
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let dofs = sim.q.len();

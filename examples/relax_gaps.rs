@@ -6,7 +6,7 @@
 //! (default factors `10,1000`).
 
 use knitsim::app::load_fabric;
-use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
+use knitsim::sim::{relax, RelaxOptions, Simulation};
 use knitsim::solver::linear::LinearSolver;
 use std::time::Instant;
 
@@ -24,7 +24,7 @@ fn main() -> anyhow::Result<()> {
     println!("|---|---|---|---|---|---|---|---|");
     for kc in factors {
         let fabric = load_fabric(std::path::Path::new(path), &Default::default())?.fabric;
-        let mut params = SimParams::default();
+        let mut params = knitsim::scene::params_for(&fabric, None)?;
         params.rod.kc_factor = kc;
         let opts = RelaxOptions::default();
         let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);

@@ -21,7 +21,7 @@
 mod common;
 
 use common::{compiled, jitter};
-use knitsim::sim::{configure_relax, RelaxOptions, SimParams, Simulation};
+use knitsim::sim::{configure_relax, RelaxOptions, Simulation};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::topology::Fabric;
 use std::collections::BTreeMap;
@@ -36,7 +36,8 @@ fn main() -> anyhow::Result<()> {
     let mut fabric = compiled(name, n)?;
     jitter(&mut fabric, seed);
     let opts = RelaxOptions::default();
-    let mut sim = Simulation::new(fabric, SimParams::default(), LinearSolver::direct(), opts.h_initial);
+    let params = knitsim::scene::params_for(&fabric, None)?;
+    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     configure_relax(&mut sim, &opts);
     let kinds = point_kinds(&sim.fabric);
     println!("{name} {n}x{n}, {} unknowns, seed {seed}", sim.q.len());

@@ -6,7 +6,7 @@
 //! section 8).
 
 use knitsim::app::load_fabric;
-use knitsim::sim::{SimParams, Simulation};
+use knitsim::sim::Simulation;
 use knitsim::solver::linear::LinearSolver;
 use knitsim::solver::newton::Problem;
 
@@ -15,7 +15,7 @@ fn main() -> anyhow::Result<()> {
     let path = args.get(1).map(String::as_str).unwrap_or("patterns/stockinette.knit");
     let steps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
     let loaded = load_fabric(std::path::Path::new(path), &Default::default())?;
-    let mut params = SimParams::default();
+    let mut params = knitsim::scene::params_for(&loaded.fabric, None)?;
     params.assign.stop_fraction = std::env::var("STOP").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
     let mut sim = Simulation::new(
         loaded.fabric,

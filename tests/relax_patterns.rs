@@ -8,6 +8,7 @@
 //! still a contact: its two yarn points share one node whose position is
 //! finite and whose `u` stays strictly inside both yarns (no unravelling).
 
+use knitsim::scene::fabric_radius;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::solver::newton::Problem;
@@ -62,6 +63,11 @@ fn relax_fabric(path: &Path, looseness: &str, shape_gap: f64, params: SimParams)
     if shape_gap > 0.0 && thin_shape_points(&mut fabric, shape_gap) == 0 {
         // The same fabric as the default run: nothing new to test.
         return Ok((format!("{name}: nothing thinned"), 0));
+    }
+    // The pattern's own yarn radius, as `knitsim relax` uses it.
+    let mut params = params;
+    if let Some(r) = fabric_radius(&fabric) {
+        params.rod.radius = r;
     }
     let n_contacts = fabric.contacts.len();
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);

@@ -6,7 +6,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob};
 use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
-use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions, SimParams};
+use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions};
 use knitsim::solver::linear::{select, AutoParams};
 use knitsim::topology::CompileOptions;
 use std::path::{Path, PathBuf};
@@ -198,10 +198,7 @@ fn relax(
         bail!("--tol must be a positive number, got {}", options.tol);
     }
     let fabric = load(input, opts)?.fabric;
-    let mut params = match scene {
-        Some(path) => knitsim::scene::load_params(path)?,
-        None => SimParams::default(),
-    };
+    let mut params = knitsim::scene::params_for(&fabric, scene)?;
     if no_eil {
         params.assign.enable_eil = false;
     }

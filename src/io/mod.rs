@@ -23,7 +23,7 @@
 pub mod atomic;
 mod error;
 #[cfg(test)]
-mod fixtures;
+pub(crate) mod fixtures;
 pub mod json;
 pub mod obj;
 pub mod png;

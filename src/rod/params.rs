@@ -41,6 +41,8 @@ use serde::{Deserialize, Serialize};
 #[serde(default, deny_unknown_fields)]
 pub struct RodParams {
     /// Yarn radius (m); the parallel-contact distance is the diameter.
+    /// `knitsim` sets it from the pattern's thickest yarn unless a scene
+    /// gives it (`scene::params_for`).
     pub radius: f64,
     /// Axial stiffness `EA` (N).
     pub ks: f64,

@@ -9,6 +9,7 @@ pub mod obstacle;
 pub use obstacle::{ObstaclePenalty, Shape};
 
 use crate::sim::SimParams;
+use crate::topology::Fabric;
 use std::path::Path;
 
 #[derive(Debug, thiserror::Error)]
@@ -84,9 +85,76 @@ pub fn load_params(path: &Path) -> Result<SimParams, SceneError> {
     Ok(params)
 }
 
+/// The radius of a fabric's thickest yarn (the pattern's `radius`), if any
+/// yarn declares a positive finite one.
+pub fn fabric_radius(fabric: &Fabric) -> Option<f64> {
+    let r = fabric
+        .meta
+        .yarns
+        .iter()
+        .map(|y| y.radius)
+        .filter(|r| r.is_finite() && *r > 0.0)
+        .fold(0.0, f64::max);
+    (r > 0.0).then_some(r)
+}
+
+/// The parameters to simulate `fabric` with: the scene's keys over the
+/// defaults, and the rod radius of the fabric's own yarns (its thickest,
+/// see [`fabric_radius`]) unless the scene sets `rod.radius`. The radius
+/// sets the parallel-contact distance, the secured ends' stop and the
+/// contact thickness, so a pattern's yarn should set it; one radius serves
+/// all yarns (`RodParams` is per simulation).
+pub fn params_for(fabric: &Fabric, scene: Option<&Path>) -> Result<SimParams, SceneError> {
+    let (mut params, scene_radius) = match scene {
+        None => (SimParams::default(), false),
+        Some(path) => {
+            let params = load_params(path)?;
+            // Parsed once already, so this parse succeeds.
+            let text = std::fs::read_to_string(path).unwrap_or_default();
+            let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+            (params, value.pointer("/rod/radius").is_some())
+        }
+    };
+    if let (false, Some(r)) = (scene_radius, fabric_radius(fabric)) {
+        params.rod.radius = r;
+    }
+    Ok(params)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn fabric_of_radius(radius: f64) -> Fabric {
+        let mut f = crate::io::fixtures::crossing();
+        for y in &mut f.meta.yarns {
+            y.radius = radius;
+        }
+        f
+    }
+
+    #[test]
+    fn the_fabric_sets_the_radius_unless_the_scene_does() {
+        let f = fabric_of_radius(0.6e-3);
+        assert_eq!(params_for(&f, None).unwrap().rod.radius, 0.6e-3);
+        let dir = tempfile::tempdir().unwrap();
+        let other = dir.path().join("other.json");
+        std::fs::write(&other, r#"{"rod": {"ks": 50.0}}"#).unwrap();
+        let p = params_for(&f, Some(&other)).unwrap();
+        assert_eq!((p.rod.radius, p.rod.ks), (0.6e-3, 50.0));
+        let own = dir.path().join("own.json");
+        std::fs::write(&own, r#"{"rod": {"radius": 0.001}}"#).unwrap();
+        assert_eq!(params_for(&f, Some(&own)).unwrap().rod.radius, 0.001);
+        // A fabric without a usable radius keeps the default.
+        let bare = fabric_of_radius(f64::NAN);
+        assert_eq!(
+            params_for(&bare, None).unwrap().rod.radius,
+            SimParams::default().rod.radius
+        );
+        // A broken scene is still an error.
+        std::fs::write(&own, "{").unwrap();
+        assert!(params_for(&f, Some(&own)).is_err());
+    }
 
     fn load(text: &str) -> (Result<SimParams, SceneError>, String) {
         let dir = tempfile::tempdir().unwrap();
