@@ -15,8 +15,8 @@
 //! Dropping the shape points within a diameter of a contact halves a 40x40
 //! linen stitch's unknowns, and its relaxation took 100 to 160 Newton
 //! iterations over eight seeds instead of 117 to 380, each about half as
-//! expensive. The relaxed fabric's width and height moved by 2 to 5%, but
-//! it curls out of plane 1.3 to 1.7 times as far (docs/RELAX.md section
+//! expensive. The relaxed fabric's width and height moved by 1 to 6%, but
+//! it curls out of plane 1.3 to 1.8 times as far (docs/RELAX.md section
 //! 11), so this is a choice the user makes, not the default. Patterns
 //! without floats (stockinette, garter, ribs, seed) have no shape point
 //! that close to a contact and come out unchanged.
