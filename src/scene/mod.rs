@@ -31,12 +31,20 @@ pub enum SceneError {
 /// their defaults; unknown keys, malformed JSON and non-finite or negative
 /// stiffnesses are errors naming the file, line and column.
 pub fn load_params(path: &Path) -> Result<SimParams, SceneError> {
-    let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
-        path: p.clone(),
+    parse_params(&read_scene(path)?, path)
+}
+
+fn read_scene(path: &Path) -> Result<String, SceneError> {
+    std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        path: path.display().to_string(),
         source,
-    })?;
-    let params: SimParams = serde_json::from_str(&text).map_err(|e| SceneError::Parse {
+    })
+}
+
+/// [`load_params`] on the text of the scene file `path`.
+fn parse_params(text: &str, path: &Path) -> Result<SimParams, SceneError> {
+    let p = path.display().to_string();
+    let params: SimParams = serde_json::from_str(text).map_err(|e| SceneError::Parse {
         path: p.clone(),
         line: e.line(),
         column: e.column(),
@@ -108,9 +116,9 @@ pub fn params_for(fabric: &Fabric, scene: Option<&Path>) -> Result<SimParams, Sc
     let (mut params, scene_radius) = match scene {
         None => (SimParams::default(), false),
         Some(path) => {
-            let params = load_params(path)?;
-            // Parsed once already, so this parse succeeds.
-            let text = std::fs::read_to_string(path).unwrap_or_default();
+            let text = read_scene(path)?;
+            let params = parse_params(&text, path)?;
+            // The typed parse succeeded, so this one does too.
             let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
             (params, value.pointer("/rod/radius").is_some())
         }
