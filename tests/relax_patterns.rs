@@ -9,7 +9,7 @@
 //! finite and whose `u` stays strictly inside both yarns (no unravelling).
 
 use knitsim::scene::fabric_radius;
-use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation};
+use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation, YarnRadii};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::solver::newton::Problem;
 use knitsim::topology::{thin_shape_points, Fabric};
@@ -64,11 +64,13 @@ fn relax_fabric(path: &Path, looseness: &str, shape_gap: f64, params: SimParams)
         // The same fabric as the default run: nothing new to test.
         return Ok((format!("{name}: nothing thinned"), 0));
     }
-    // The pattern's own yarn radius, as `knitsim relax` uses it.
+    // The pattern's own yarn radii, as `knitsim relax` uses them
+    // (`scene::params_for`).
     let mut params = params;
     if let Some(r) = fabric_radius(&fabric) {
         params.rod.radius = r;
     }
+    params.radii = YarnRadii::Pattern;
     let n_contacts = fabric.contacts.len();
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let e0 = potential(&sim);
@@ -196,4 +198,32 @@ fn float_patterns_relax_with_sliding_stops() {
     // Off by default: Newton never holds anything.
     let (line, held) = relax_pattern(&dir.join("linen-stitch.knit"), "loose", SimParams::default()).unwrap();
     assert_eq!(held, 0, "{line}");
+}
+
+/// A colourwork pattern whose two yarns differ in thickness: each yarn is
+/// simulated at its own radius (`YarnRadii::Pattern`, what `knitsim relax`
+/// uses), and every check above holds.
+#[test]
+fn a_jacquard_with_a_thicker_contrast_yarn_relaxes() {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/jacquard.knit")).unwrap();
+    let cc = text
+        .lines()
+        .find(|l| l.starts_with("yarn CC:"))
+        .expect("jacquard has a CC yarn");
+    let thick = cc.replace("radius 0.7 mm", "radius 1.0 mm");
+    assert_ne!(cc, thick, "the CC line names its radius");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("jacquard-thick-cc.knit");
+    std::fs::write(&path, text.replace(cc, &thick)).unwrap();
+    let fabric = common::small_fabric(&path, "loose");
+    let mut params = SimParams {
+        radii: YarnRadii::Pattern,
+        ..SimParams::default()
+    };
+    params.rod.radius = fabric_radius(&fabric).unwrap();
+    let mut radii = params.yarn_radii(&fabric);
+    radii.sort_by(f64::total_cmp);
+    radii.dedup();
+    assert_eq!(radii, vec![0.7e-3, 1.0e-3], "both yarn radii reach the simulator");
+    relax_pattern(&path, "loose", SimParams::default()).unwrap_or_else(|e| panic!("{e}"));
 }

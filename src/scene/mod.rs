@@ -8,7 +8,7 @@ pub mod obstacle;
 
 pub use obstacle::{ObstaclePenalty, Shape};
 
-use crate::sim::SimParams;
+use crate::sim::{SimParams, YarnRadii};
 use crate::topology::Fabric;
 use std::path::Path;
 
@@ -107,24 +107,37 @@ pub fn fabric_radius(fabric: &Fabric) -> Option<f64> {
 }
 
 /// The parameters to simulate `fabric` with: the scene's keys over the
-/// defaults, and the rod radius of the fabric's own yarns (its thickest,
-/// see [`fabric_radius`]) unless the scene sets `rod.radius`. The radius
-/// sets the parallel-contact distance, the secured ends' stop and the
-/// contact thickness, so a pattern's yarn should set it; one radius serves
-/// all yarns (`RodParams` is per simulation).
+/// defaults, and the fabric's own yarn radii unless the scene sets
+/// `rod.radius`. The radii set the parallel-contact distance, the secured
+/// ends' stop, the clearance over obstacles and the contact thickness, so
+/// a pattern's yarns should set them:
+///
+/// - no `rod.radius` in the scene: every yarn has its own radius
+///   ([`YarnRadii::Pattern`]), and `rod.radius` is the thickest (see
+///   [`fabric_radius`]), which sets the one thickness of non-persistent
+///   contact;
+/// - `rod.radius` in the scene: that radius for every yarn
+///   ([`YarnRadii::Uniform`]), unless the scene also sets `"radii"`.
 pub fn params_for(fabric: &Fabric, scene: Option<&Path>) -> Result<SimParams, SceneError> {
-    let (mut params, scene_radius) = match scene {
-        None => (SimParams::default(), false),
+    let (mut params, scene_radius, scene_radii) = match scene {
+        None => (SimParams::default(), false, false),
         Some(path) => {
             let text = read_scene(path)?;
             let params = parse_params(&text, path)?;
             // The typed parse succeeded, so this one does too.
             let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
-            (params, value.pointer("/rod/radius").is_some())
+            let has = |key| value.pointer(key).is_some();
+            (params, has("/rod/radius"), has("/radii"))
         }
     };
-    if let (false, Some(r)) = (scene_radius, fabric_radius(fabric)) {
+    if scene_radius {
+        return Ok(params);
+    }
+    if let Some(r) = fabric_radius(fabric) {
         params.rod.radius = r;
+    }
+    if !scene_radii {
+        params.radii = YarnRadii::Pattern;
     }
     Ok(params)
 }
@@ -144,15 +157,26 @@ mod tests {
     #[test]
     fn the_fabric_sets_the_radius_unless_the_scene_does() {
         let f = fabric_of_radius(0.6e-3);
-        assert_eq!(params_for(&f, None).unwrap().rod.radius, 0.6e-3);
+        let p = params_for(&f, None).unwrap();
+        assert_eq!((p.rod.radius, p.radii), (0.6e-3, YarnRadii::Pattern));
         let dir = tempfile::tempdir().unwrap();
         let other = dir.path().join("other.json");
         std::fs::write(&other, r#"{"rod": {"ks": 50.0}}"#).unwrap();
         let p = params_for(&f, Some(&other)).unwrap();
-        assert_eq!((p.rod.radius, p.rod.ks), (0.6e-3, 50.0));
+        assert_eq!((p.rod.radius, p.rod.ks, p.radii), (0.6e-3, 50.0, YarnRadii::Pattern));
+        // The scene's radius is every yarn's radius...
         let own = dir.path().join("own.json");
         std::fs::write(&own, r#"{"rod": {"radius": 0.001}}"#).unwrap();
-        assert_eq!(params_for(&f, Some(&own)).unwrap().rod.radius, 0.001);
+        let p = params_for(&f, Some(&own)).unwrap();
+        assert_eq!((p.rod.radius, p.radii), (0.001, YarnRadii::Uniform));
+        // ...unless the scene asks for the pattern's radii too.
+        std::fs::write(&own, r#"{"rod": {"radius": 0.001}, "radii": "pattern"}"#).unwrap();
+        let p = params_for(&f, Some(&own)).unwrap();
+        assert_eq!((p.rod.radius, p.radii), (0.001, YarnRadii::Pattern));
+        // One radius for all, the fabric's thickest.
+        std::fs::write(&own, r#"{"radii": "uniform"}"#).unwrap();
+        let p = params_for(&f, Some(&own)).unwrap();
+        assert_eq!((p.rod.radius, p.radii), (0.6e-3, YarnRadii::Uniform));
         // A fabric without a usable radius keeps the default.
         let bare = fabric_of_radius(f64::NAN);
         assert_eq!(

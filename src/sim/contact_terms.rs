@@ -98,7 +98,8 @@ impl std::str::FromStr for ContactModeName {
 #[serde(default, deny_unknown_fields)]
 pub struct ContactParams {
     pub mode: ContactModeName,
-    /// Material thickness `h` (m); `None` = the yarn diameter `2 rod.radius`.
+    /// Material thickness `h` (m); `None` = the thickest yarn's diameter
+    /// (`SimParams::yarn_radii`; `2 rod.radius` when all yarns share it).
     pub thickness: Option<f64>,
     /// Hard core `eta = core_fraction * h` of full-thickness pairs (seed 003
     /// eq. 4; 0 = single phase).
@@ -197,7 +198,9 @@ impl ContactTerms {
             return None;
         }
         let (f, l) = (disc.f, disc.l);
-        let h = cp.thickness_for(p.rod.radius);
+        // One thickness for every pair: the thickest yarn's diameter.
+        let thickest = p.yarn_radii(disc.f).into_iter().fold(0.0, f64::max);
+        let h = cp.thickness_for(if thickest > 0.0 { thickest } else { p.rod.radius });
         let mut segs = ContactSegments::default();
         let mut ranges = Vec::new();
         for (y, real) in disc.real.iter().enumerate() {

@@ -10,7 +10,7 @@
 //!
 //! The stop is the parallel-contact penalty (`rod::parallel`) between the
 //! end's fixed `u` and the outermost contact point's `u`, at a distance of
-//! one yarn diameter, or half the compiled tail if that is shorter (so the
+//! one diameter of that yarn (`SimParams::yarn_radii`), or half the compiled tail if that is shorter (so the
 //! compiled state is never inside a stop). It is a term like any other:
 //! `Terms::secured_ends` switches it off for scenes that want a tail to
 //! pull out.
@@ -21,7 +21,8 @@ use crate::rod::parallel::ParallelContact;
 use crate::topology::PointRef;
 
 /// The stops of every yarn end that has a contact: `(stencil, [u_lo, u_hi])`.
-pub fn end_stops(disc: &Discretization, p: &SimParams) -> (Vec<ParallelContact>, Vec<[u32; 2]>) {
+/// `radii` holds each yarn's radius (`SimParams::yarn_radii`).
+pub fn end_stops(disc: &Discretization, p: &SimParams, radii: &[f64]) -> (Vec<ParallelContact>, Vec<[u32; 2]>) {
     let (f, l) = (disc.f, disc.l);
     let (mut t, mut d) = (vec![], vec![]);
     for (y, ord) in disc.a.orders().iter().enumerate() {
@@ -45,7 +46,7 @@ pub fn end_stops(disc: &Discretization, p: &SimParams) -> (Vec<ParallelContact>,
                 l.u(PointRef { yarn: y, point: e }) as u32,
                 l.u(PointRef { yarn: y, point: c }) as u32,
             );
-            t.push(ParallelContact::new(p.rod.kp, p.rod.diameter().min(0.5 * tail)));
+            t.push(ParallelContact::new(p.rod.kp, (2.0 * radii[y]).min(0.5 * tail)));
             d.push(if at_start { [ue, uc] } else { [uc, ue] });
         }
     }
@@ -90,7 +91,7 @@ mod tests {
         let a = assign(&f, &l, &q, &rest_segment_lengths(&f), AssignParams::default());
         let disc = Discretization::new(&f, &l, &a);
         let p = SimParams::default();
-        let (t, d) = end_stops(&disc, &p);
+        let (t, d) = end_stops(&disc, &p, &p.yarn_radii(&f));
         assert_eq!(t.len(), 4, "two ends on each of two yarns");
         let u = |y, pi| l.u(PointRef { yarn: y, point: pi }) as u32;
         assert_eq!(d[0], [u(0, 0), u(0, 1)]);
@@ -115,7 +116,7 @@ mod tests {
         let l = DofLayout::new(&short);
         let q = l.gather(&short);
         let a = assign(&short, &l, &q, &rest_segment_lengths(&short), AssignParams::default());
-        let (t, _) = end_stops(&Discretization::new(&short, &l, &a), &p);
+        let (t, _) = end_stops(&Discretization::new(&short, &l, &a), &p, &p.yarn_radii(&short));
         assert!((t[0].diameter - 0.0005).abs() < 1e-15);
     }
 }

@@ -24,7 +24,7 @@ pub mod system;
 pub mod transfer;
 
 pub use contact_terms::{ContactModeName, ContactParams};
-pub use params::{SimParams, Terms};
+pub use params::{SimParams, Terms, YarnRadii};
 pub use relax::{configure as configure_relax, relax, RelaxOptions, RelaxReport};
 pub use separation::SeparationParams;
 pub use simulation::{SimError, Simulation, StepReport};

@@ -9,6 +9,7 @@ use crate::scene::Shape;
 use crate::sim::assignment::AssignParams;
 use crate::sim::contact_terms::ContactParams;
 use crate::sim::separation::SeparationParams;
+use crate::topology::Fabric;
 use serde::{Deserialize, Serialize};
 
 /// Which energy terms exist.
@@ -40,10 +41,29 @@ impl Default for Terms {
     }
 }
 
+/// Which radius each yarn is simulated with: where two yarns of different
+/// thickness meet, the distances the rod model keeps between them (the
+/// parallel-contact distance, the secured ends' stop, the clearance over an
+/// obstacle) are sums of the radii actually there.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum YarnRadii {
+    /// `rod.radius` for every yarn (a scene that sets `rod.radius` means
+    /// this, and so does a `SimParams` built in code).
+    #[default]
+    Uniform,
+    /// Each yarn's own radius from its pattern spec (`meta.yarns[spec]`);
+    /// `rod.radius` for a yarn whose spec has no usable radius.
+    /// `scene::params_for` picks this unless the scene sets `rod.radius`.
+    Pattern,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimParams {
     pub rod: RodParams,
+    /// Per-yarn radii or one for all (see [`YarnRadii`]).
+    pub radii: YarnRadii,
     pub assign: AssignParams,
     pub terms: Terms,
     pub obstacles: Vec<Shape>,
@@ -67,6 +87,7 @@ impl Default for SimParams {
     fn default() -> Self {
         SimParams {
             rod: RodParams::default(),
+            radii: YarnRadii::default(),
             assign: AssignParams::default(),
             terms: Terms::default(),
             obstacles: Vec::new(),
@@ -75,5 +96,24 @@ impl Default for SimParams {
             remove_slid_off: true,
             separation: None,
         }
+    }
+}
+
+impl SimParams {
+    /// The radius of every yarn of `f` (m), by [`SimParams::radii`].
+    pub fn yarn_radii(&self, f: &Fabric) -> Vec<f64> {
+        f.yarns
+            .iter()
+            .map(|y| match self.radii {
+                YarnRadii::Uniform => self.rod.radius,
+                YarnRadii::Pattern => f
+                    .meta
+                    .yarns
+                    .get(y.spec)
+                    .map(|s| s.radius)
+                    .filter(|r| r.is_finite() && *r > 0.0)
+                    .unwrap_or(self.rod.radius),
+            })
+            .collect()
     }
 }

@@ -238,6 +238,7 @@ pub fn build_sets(
 ) -> Vec<Box<dyn AnyStencilSet>> {
     let (f, l) = (disc.f, disc.l);
     let rp = &p.rod;
+    let radii = p.yarn_radii(f);
     let mut sets: Vec<Box<dyn AnyStencilSet>> = Vec::new();
     let mut add = |s: Box<dyn AnyStencilSet>| {
         if !s.is_empty() {
@@ -350,38 +351,63 @@ pub fn build_sets(
     add(Box::new(StencilSet::new("shear", sht, shd)));
 
     if p.terms.parallel {
-        let (pt, pd) = parallel_terms(disc, q, p);
+        let (pt, pd) = parallel_terms(disc, q, p, &radii);
         add(Box::new(StencilSet::new("parallel", pt, pd)));
     }
     if p.terms.secured_ends {
-        let (et, ed) = super::end_stops::end_stops(disc, p);
+        let (et, ed) = super::end_stops::end_stops(disc, p, &radii);
         add(Box::new(StencilSet::new("yarn-ends", et, ed)));
     }
 
     if !p.obstacles.is_empty() {
-        let (mut ot, mut od) = (vec![], vec![]);
-        for (n, node) in f.nodes.iter().enumerate() {
-            if node.pinned {
-                continue;
-            }
-            for s in &p.obstacles {
-                ot.push(ObstaclePenalty {
-                    shape: s.clone(),
-                    thickness: rp.radius,
-                    stiffness: p.obstacle_stiffness,
-                });
-                let x = l.x(n) as u32;
-                od.push([x, x + 1, x + 2]);
-            }
-        }
+        let (ot, od) = obstacle_terms(disc, p, &radii);
         add(Box::new(StencilSet::new("obstacles", ot, od)));
     }
     sets
 }
 
+/// Every unpinned node against every obstacle, kept off it by the radius of
+/// its thickest yarn.
+fn obstacle_terms(disc: &Discretization, p: &SimParams, radii: &[f64]) -> (Vec<ObstaclePenalty>, Vec<[u32; 3]>) {
+    let (f, l) = (disc.f, disc.l);
+    let mut node_radius = vec![0.0f64; f.nodes.len()];
+    for (y, yarn) in f.yarns.iter().enumerate() {
+        for pt in &yarn.points {
+            node_radius[pt.node] = node_radius[pt.node].max(radii[y]);
+        }
+    }
+    let (mut t, mut d) = (vec![], vec![]);
+    for (n, node) in f.nodes.iter().enumerate() {
+        if node.pinned {
+            continue;
+        }
+        let thickness = if node_radius[n] > 0.0 {
+            node_radius[n]
+        } else {
+            p.rod.radius
+        };
+        for s in &p.obstacles {
+            t.push(ObstaclePenalty {
+                shape: s.clone(),
+                thickness,
+                stiffness: p.obstacle_stiffness,
+            });
+            let x = l.x(n) as u32;
+            d.push([x, x + 1, x + 2]);
+        }
+    }
+    (t, d)
+}
+
 /// Parallel-yarn contact between consecutive contact points on a yarn,
-/// with the enable rules of seed 000 sec. 4.2.
-fn parallel_terms(disc: &Discretization, q: &[f64], p: &SimParams) -> (Vec<ParallelContact>, Vec<[u32; 2]>) {
+/// with the enable rules of seed 000 sec. 4.2. The two crossing yarns keep
+/// their centre lines the sum of their radii apart along this one.
+fn parallel_terms(
+    disc: &Discretization,
+    q: &[f64],
+    p: &SimParams,
+    radii: &[f64],
+) -> (Vec<ParallelContact>, Vec<[u32; 2]>) {
     let (f, l) = (disc.f, disc.l);
     // For each point, the contact it belongs to and the other yarn point.
     let mut other: Vec<Option<(usize, PointRef)>> = vec![None; l.n_points()];
@@ -432,10 +458,14 @@ fn parallel_terms(disc: &Discretization, q: &[f64], p: &SimParams) -> (Vec<Paral
                 continue;
             };
             if parallel_enabled(&s1, &s2) {
-                t.push(ParallelContact::new(p.rod.kp, p.rod.diameter()));
+                t.push(ParallelContact::new(p.rod.kp, radii[o1.yarn] + radii[o2.yarn]));
                 d.push([l.u(p1) as u32, l.u(p2) as u32]);
             }
         }
     }
     (t, d)
 }
+
+#[cfg(test)]
+#[path = "radii_tests.rs"]
+mod radii_tests;
