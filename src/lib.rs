@@ -11,6 +11,8 @@
 //! - `gpu`: wgpu compute kernels (feature `gpu`; the module exists only with it).
 //! - [`scene`]: what to simulate: pins, obstacles, layers, parameters.
 //! - [`io`]: VTK, OBJ, PNG and JSON output, written atomically.
+//! - [`parallel`]: the thread count and the ordered parallel map that keep
+//!   results independent of it.
 
 pub mod app;
 pub mod contact;
@@ -18,6 +20,7 @@ pub mod energy;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod io;
+pub mod parallel;
 pub mod pattern;
 pub mod rod;
 pub mod scene;

@@ -135,7 +135,7 @@ const TILE_PX: usize = 32;
 
 /// Renders the preview in memory.
 pub fn render_preview(fabric: &Fabric, options: &PngOptions) -> Result<RgbImage, ExportError> {
-    render_on(fabric, options, crate::solver::assembly::threads())
+    render_on(fabric, options, crate::parallel::threads())
 }
 
 /// [`render_preview`] with its tiles shared among `workers` threads.

@@ -17,7 +17,7 @@
 //!   search.
 //! - **Parallel evaluation, serial scatter.** Stencils are evaluated in
 //!   blocks on [`threads`] threads (spawned once per call, see
-//!   `ordered_map`); the results are scattered, and energies summed, in
+//!   [`ordered_map`]); the results are scattered, and energies summed, in
 //!   stencil order on the calling thread. So the assembled system is
 //!   bit-identical for any thread count: a run is reproducible on any
 //!   machine, and evaluating (which is where the time goes: PSD
@@ -29,29 +29,15 @@
 //! [`bind`]: AnyStencilSet::bind
 
 use crate::energy::Stencil;
+use crate::parallel::{ordered_map, threads};
 use crate::solver::sparse::CsrMatrix;
 use nalgebra::{SMatrix, SVector};
-use ordered_map::ordered_map;
-use std::sync::OnceLock;
 
 /// Stencils per block of the parallel evaluation: small enough that the
 /// threads share uneven work (PSD projections run only for indefinite
 /// stencils), large enough that handing a block over (a channel message)
 /// costs little against evaluating it (about 0.1 to 10 us per stencil).
 const BLOCK: usize = 64;
-
-/// Threads that evaluate stencils: `KNITSIM_THREADS` if set, else the
-/// machine's available parallelism. Results do not depend on it.
-pub fn threads() -> usize {
-    static THREADS: OnceLock<usize> = OnceLock::new();
-    *THREADS.get_or_init(|| {
-        std::env::var("KNITSIM_THREADS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-            .max(1)
-    })
-}
 
 /// `f(k)` for every `k` in `0..n`, evaluated on [`threads`] threads; `emit`
 /// receives the results block by block, in index order.
@@ -358,6 +344,5 @@ pub fn cancel_fixed_rows(free: &[bool], grad: &mut [f64], h: &mut CsrMatrix) {
     }
 }
 
-mod ordered_map;
 #[cfg(test)]
 mod tests;

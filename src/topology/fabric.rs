@@ -113,6 +113,19 @@ fn is_false(b: &bool) -> bool {
 }
 
 impl Fabric {
+    /// Points every yarn point, contact node and partner at `remap[old]`.
+    /// The callers that drop or merge nodes (`topology::thin`,
+    /// `topology::stack`) build the map and move the nodes themselves.
+    pub(crate) fn remap_node_refs(&mut self, remap: &[usize]) {
+        for p in self.yarns.iter_mut().flat_map(|y| &mut y.points) {
+            p.node = remap[p.node];
+        }
+        for c in &mut self.contacts {
+            c.node = remap[c.node];
+            c.partner = c.partner.map(|n| remap[n]);
+        }
+    }
+
     /// The point's spatial position: the node's `x`, or for an EIL point the
     /// interpolation between its non-EIL neighbours on the yarn.
     pub fn point_position(&self, p: PointRef) -> Vec3 {

@@ -114,22 +114,24 @@ pub fn stack_layers(layers: &[Fabric], spacing: f64) -> Result<Fabric, TopologyE
             n.x.z += dz;
             out.nodes[remap[i]] = n;
         }
-        out.yarns.extend(layer.yarns.iter().map(|y| {
-            let mut y = y.clone();
+        // The layer's yarns and contacts, pointed at the merged nodes.
+        let mut moved = Fabric {
+            meta: layer.meta.clone(),
+            nodes: Vec::new(),
+            yarns: layer.yarns.clone(),
+            contacts: layer.contacts.clone(),
+            sim: None,
+        };
+        moved.remap_node_refs(&remap);
+        out.yarns.extend(moved.yarns.into_iter().map(|mut y| {
             y.spec += spec0;
-            for p in &mut y.points {
-                p.node = remap[p.node];
-            }
             y
         }));
         let shift = |p: PointRef| PointRef {
             yarn: p.yarn + yarn0,
             point: p.point,
         };
-        out.contacts.extend(layer.contacts.iter().map(|c| {
-            let mut c = c.clone();
-            c.node = remap[c.node];
-            c.partner = c.partner.map(|n| remap[n]);
+        out.contacts.extend(moved.contacts.into_iter().map(|mut c| {
             c.front = shift(c.front);
             c.back = shift(c.back);
             c

@@ -141,13 +141,7 @@ fn renumber_used_nodes(fabric: &mut Fabric) {
         }
     }
     fabric.nodes = nodes;
-    for p in fabric.yarns.iter_mut().flat_map(|y| &mut y.points) {
-        p.node = remap[p.node];
-    }
-    for c in &mut fabric.contacts {
-        c.node = remap[c.node];
-        c.partner = c.partner.map(|p| remap[p]);
-    }
+    fabric.remap_node_refs(&remap);
 }
 
 #[cfg(test)]

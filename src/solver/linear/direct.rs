@@ -284,7 +284,7 @@ impl DirectSolver {
         if self.params.ldlt_last_resort {
             attempts.push(FactorKind::Ldlt);
         }
-        let concurrent = crate::solver::assembly::threads() > 1;
+        let concurrent = crate::parallel::threads() > 1;
         for kind in attempts {
             if !self.try_factor(a, kind) {
                 continue;
