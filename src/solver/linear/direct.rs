@@ -184,7 +184,7 @@ impl DirectSolver {
     }
 
     /// Multiply-adds of one numeric factorization, once analysed
-    /// ([`ordering::factor_flops`]).
+    /// (`ordering::factor_flops`).
     pub fn factor_flops(&self) -> Option<f64> {
         self.analysis.as_ref().map(|a| ordering::factor_flops(&a.symbolic))
     }
