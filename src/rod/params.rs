@@ -96,7 +96,10 @@ impl RodParams {
         self.kc_factor * self.ks / du_rest
     }
 
-    /// Yarn diameter: the smallest Eulerian distance between parallel contacts.
+    /// Diameter at `radius`: with one radius for every yarn
+    /// (`sim::YarnRadii::Uniform`), the smallest Eulerian distance between
+    /// parallel contacts; per-yarn radii use the sum of the two crossing
+    /// yarns' radii instead (`sim::system`).
     pub fn diameter(&self) -> f64 {
         2.0 * self.radius
     }

@@ -10,8 +10,9 @@
 //!
 //! The stop is the parallel-contact penalty (`rod::parallel`) between the
 //! end's fixed `u` and the outermost contact point's `u`, at a distance of
-//! one diameter of that yarn (`SimParams::yarn_radii`), or half the compiled tail if that is shorter (so the
-//! compiled state is never inside a stop). It is a term like any other:
+//! one diameter of that yarn (`SimParams::yarn_radii`), or half the
+//! compiled tail if that is shorter (so the compiled state is never inside
+//! a stop). It is a term like any other:
 //! `Terms::secured_ends` switches it off for scenes that want a tail to
 //! pull out.
 
