@@ -8,7 +8,8 @@
 //! still a contact: its two yarn points share one node whose position is
 //! finite and whose `u` stays strictly inside both yarns (no unravelling).
 
-use knitsim::scene::fabric_radius;
+use knitsim::rod::params::RodParams;
+use knitsim::scene::params_for;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation, YarnRadii};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::solver::newton::Problem;
@@ -64,13 +65,16 @@ fn relax_fabric(path: &Path, looseness: &str, shape_gap: f64, params: SimParams)
         // The same fabric as the default run: nothing new to test.
         return Ok((format!("{name}: nothing thinned"), 0));
     }
-    // The pattern's own yarn radii, as `knitsim relax` uses them
-    // (`scene::params_for`).
-    let mut params = params;
-    if let Some(r) = fabric_radius(&fabric) {
-        params.rod.radius = r;
-    }
-    params.radii = YarnRadii::Pattern;
+    // The pattern's own yarn radii, as `knitsim relax` uses them.
+    let own = params_for(&fabric, None).unwrap();
+    let params = SimParams {
+        rod: RodParams {
+            radius: own.rod.radius,
+            ..params.rod
+        },
+        radii: own.radii,
+        ..params
+    };
     let n_contacts = fabric.contacts.len();
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let e0 = potential(&sim);
@@ -216,11 +220,8 @@ fn a_jacquard_with_a_thicker_contrast_yarn_relaxes() {
     let path = dir.path().join("jacquard-thick-cc.knit");
     std::fs::write(&path, text.replace(cc, &thick)).unwrap();
     let fabric = common::small_fabric(&path, "loose");
-    let mut params = SimParams {
-        radii: YarnRadii::Pattern,
-        ..SimParams::default()
-    };
-    params.rod.radius = fabric_radius(&fabric).unwrap();
+    let params = params_for(&fabric, None).unwrap();
+    assert_eq!(params.radii, YarnRadii::Pattern);
     let mut radii = params.yarn_radii(&fabric);
     radii.sort_by(f64::total_cmp);
     radii.dedup();
