@@ -92,6 +92,44 @@ fn singular_psd_falls_back_to_shift() {
 }
 
 #[test]
+fn a_badly_scaled_positive_definite_matrix_passes_the_plain_factor() {
+    // D A D with one pair of unknowns scaled by 1e11 (diagonal 1e22 against
+    // ~4, like a yarn segment closing within a step): positive definite and
+    // well conditioned once scaled back, so plain LLT must be kept and the
+    // solve must be accurate in every component. The last assert checks
+    // that the unscaled relative residual, which the probe used to test,
+    // is above its tolerance here.
+    let mut a = grid_laplacian(12, 0.5);
+    let big = [17usize, 18];
+    let d = |i: usize| if big.contains(&i) { 1e11 } else { 1.0 };
+    for r in 0..a.n {
+        for k in a.row_ptr[r]..a.row_ptr[r + 1] {
+            a.values[k] *= d(r) * d(a.col_idx[k] as usize);
+        }
+    }
+    let b: Vec<f64> = (0..a.n).map(|i| 1.0 + (i % 5) as f64).collect();
+    let mut s = DirectSolver::default();
+    let mut x = vec![0.0; a.n];
+    assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Llt);
+    let exact = dense(&a).lu().solve(&DVector::from_vec(b.clone())).unwrap();
+    for i in 0..a.n {
+        assert!(
+            (x[i] - exact[i]).abs() <= 1e-9 * exact[i].abs(),
+            "{i}: {} vs {}",
+            x[i],
+            exact[i]
+        );
+    }
+    let mut r = vec![0.0; a.n];
+    a.residual(&x, &b, &mut r);
+    let unscaled = dot(&r, &r).sqrt() / dot(&b, &b).sqrt();
+    assert!(
+        unscaled > s.params.max_rel_residual,
+        "the case must defeat an unscaled probe: {unscaled:e}"
+    );
+}
+
+#[test]
 fn indefinite_uses_ldlt_when_shifts_disabled() {
     let mut a = grid_laplacian(5, 4.5);
     // Flip the sign of a few diagonal entries: symmetric, nonsingular, indefinite.
