@@ -3,7 +3,8 @@
 //! Prints, per case: nodes, DOFs, Newton iterations, seconds to
 //! equilibrium (the default `RelaxOptions` tolerance), seconds per Newton
 //! iteration, peak resident memory, the final static residual, the relaxed
-//! energy and bounding box; then the fitted exponent of seconds per iteration against DOFs.
+//! energy and bounding box, and the relaxation steps (in brackets those
+//! that ended early at a closed segment, `sim::tripwire`); then the fitted exponent of seconds per iteration against DOFs.
 //!
 //! Each case runs in a child process so its peak memory (`VmHWM`) is its
 //! own. Not a test. Run with
@@ -23,8 +24,8 @@
 //!
 //! `-- --iteration-cost SIZES REPS` measures seconds per Newton iteration
 //! on a workload that does not depend on when the equilibrium test happens
-//! to pass: the first two relaxation steps (every step of which runs to
-//! its Newton cap; the second has the first EIL points), `REPS` times per
+//! to pass: the first two relaxation steps (each runs to its Newton cap
+//! unless a segment closes first; the second has the first EIL points), `REPS` times per
 //! case, sizes interleaved, keeping each case's fastest run. The sandbox's
 //! speed drifts by up to 25% over minutes (docs/RELAX.md), so single runs
 //! of different sizes are not comparable; the minimum over interleaved
@@ -91,9 +92,9 @@ fn main() -> anyhow::Result<()> {
         .map(str::parse)
         .collect::<Result<_, _>>()?;
     println!(
-        "| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual | energy (J) | extent (mm) |"
+        "| pattern | stitches | nodes | DOFs | Newton its | s to equilibrium | s / Newton it | peak MiB | residual | energy (J) | extent (mm) | steps (closed) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut fit: Vec<(f64, f64)> = Vec::new();
     for name in PATTERNS {
         for &n in &sizes {
@@ -352,12 +353,14 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
     let energy: f64 = sim.problem(None)?.breakdown(&sim.q).iter().map(|(_, e)| e).sum();
     let extent = extent_mm(&sim.snapshot());
     println!(
-        "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} | {energy:.4e} | {extent} |",
+        "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} | {energy:.4e} | {extent} | {} ({}) |",
         rep.newton_iterations,
         secs / rep.newton_iterations.max(1) as f64,
         peak_mib(),
         rep.residual,
-        if rep.converged { "" } else { " (not converged)" }
+        if rep.converged { "" } else { " (not converged)" },
+        rep.steps,
+        rep.closed_segment_steps
     );
     Ok(())
 }

@@ -61,6 +61,7 @@ fn parse_params(text: &str, path: &Path) -> Result<SimParams, SceneError> {
         ("assign.safety_fraction", a.safety_fraction),
         ("assign.release_fraction", a.release_fraction),
         ("assign.stop_fraction", a.stop_fraction),
+        ("assign.close_fraction", a.close_fraction),
     ] {
         if !(v.is_finite() && v >= 0.0) {
             return Err(SceneError::Invalid {
@@ -69,15 +70,23 @@ fn parse_params(text: &str, path: &Path) -> Result<SimParams, SceneError> {
             });
         }
     }
-    if a.stop_fraction >= a.safety_fraction && a.stop_fraction > 0.0 {
-        return Err(SceneError::Invalid {
-            path: p,
-            message: format!(
-                "assign.stop_fraction ({}) must be below assign.safety_fraction ({}): a point stopped \
-                 outside the safety distance would never be handed to EIL",
-                a.stop_fraction, a.safety_fraction
-            ),
-        });
+    // A point stopped, or a segment tripped, outside the safety distance
+    // would not be handed to EIL by the next re-assignment: a stop would
+    // hold it forever, a tripwire would end every step at once.
+    for (name, v, why) in [
+        ("stop_fraction", a.stop_fraction, "a stopped point"),
+        ("close_fraction", a.close_fraction, "a closed segment"),
+    ] {
+        if v >= a.safety_fraction && v > 0.0 {
+            return Err(SceneError::Invalid {
+                path: p,
+                message: format!(
+                    "assign.{name} ({v}) must be below assign.safety_fraction ({}): {why} outside the \
+                     safety distance would never be handed to EIL",
+                    a.safety_fraction
+                ),
+            });
+        }
     }
     if let Some(sep) = &params.separation {
         if !(sep.min_pull.is_finite() && sep.min_pull >= 0.0) {
@@ -227,6 +236,8 @@ mod tests {
             (r#"{"separation": {"min_pull": -0.1}}"#, "separation.min_pull"),
             (r#"{"assign": {"stop_fraction": -0.05}}"#, "assign.stop_fraction"),
             (r#"{"assign": {"stop_fraction": 0.1}}"#, "assign.stop_fraction"),
+            (r#"{"assign": {"close_fraction": -1e-5}}"#, "assign.close_fraction"),
+            (r#"{"assign": {"close_fraction": 0.2}}"#, "assign.close_fraction"),
         ] {
             let (r, path) = load(text);
             let e = r.unwrap_err().to_string();

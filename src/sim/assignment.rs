@@ -33,6 +33,11 @@ pub struct AssignParams {
     /// `sim::slide_stops` and docs/RELAX.md section 8 for what it does to
     /// the relaxation.
     pub stop_fraction: f64,
+    /// Within a relaxation step, a real segment shorter than this fraction
+    /// of the rest segment ends the step (`sim::tripwire`), so the next
+    /// re-assignment hands its sliding point to EIL; 0 = off. Below
+    /// `safety_fraction`, so a tripped segment is always re-assigned.
+    pub close_fraction: f64,
 }
 
 impl Default for AssignParams {
@@ -42,6 +47,7 @@ impl Default for AssignParams {
             enable_eil: true,
             release_fraction: 0.2,
             stop_fraction: 0.0,
+            close_fraction: 1e-5,
         }
     }
 }

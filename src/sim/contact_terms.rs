@@ -494,6 +494,9 @@ impl Problem for RestartOnTrust<'_> {
     fn bounds(&self, q: &[f64], lower: &mut [f64], upper: &mut [f64]) -> bool {
         self.problem.bounds(q, lower, upper)
     }
+    fn must_rediscretize(&self, q: &[f64]) -> bool {
+        self.problem.must_rediscretize(q)
+    }
     fn blocks(&self) -> Vec<usize> {
         self.problem.blocks()
     }

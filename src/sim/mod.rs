@@ -22,6 +22,7 @@ pub mod simulation;
 pub mod slide_stops;
 pub mod system;
 pub mod transfer;
+pub mod tripwire;
 
 pub use contact_terms::{ContactModeName, ContactParams};
 pub use params::{SimParams, Terms, YarnRadii};

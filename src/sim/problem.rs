@@ -3,6 +3,7 @@
 
 use super::contact_terms::ContactTerms;
 use super::slide_stops::SlideStops;
+use super::tripwire::Tripwire;
 use crate::solver::assembly::{
     assemble, bind_all, gradient, hessian_pattern, total_energy, AnyStencilSet, AssemblyError,
 };
@@ -22,6 +23,8 @@ pub struct EolProblem {
     pub contact: Option<ContactTerms>,
     /// Where sliding points stop within this solve (empty: nowhere).
     pub slide_stops: SlideStops,
+    /// Segments whose closing ends this solve (empty: none).
+    pub tripwire: Tripwire,
     pattern: CsrMatrix,
 }
 
@@ -46,6 +49,7 @@ impl EolProblem {
             ordering_groups: Vec::new(),
             contact: None,
             slide_stops: SlideStops::default(),
+            tripwire: Tripwire::default(),
             pattern,
         })
     }
@@ -59,6 +63,12 @@ impl EolProblem {
     /// Bounds the sliding points' `u` for Newton ([`Problem::bounds`]).
     pub fn with_slide_stops(mut self, stops: SlideStops) -> Self {
         self.slide_stops = stops;
+        self
+    }
+
+    /// Ends the solve once a watched segment closes ([`Problem::must_rediscretize`]).
+    pub fn with_tripwire(mut self, tripwire: Tripwire) -> Self {
+        self.tripwire = tripwire;
         self
     }
 
@@ -103,6 +113,9 @@ impl Problem for EolProblem {
     }
     fn bounds(&self, q: &[f64], lower: &mut [f64], upper: &mut [f64]) -> bool {
         self.slide_stops.fill(q, lower, upper)
+    }
+    fn must_rediscretize(&self, q: &[f64]) -> bool {
+        self.tripwire.tripped(q)
     }
     fn blocks(&self) -> Vec<usize> {
         self.blocks.clone()

@@ -28,6 +28,12 @@
 //! fast the float patterns get there (docs/RELAX.md, "What was tried and
 //! dropped", session 16).
 //!
+//! A step also ends early at the first iterate where a real segment has
+//! closed to `assign.close_fraction` (1e-5) of a rest segment
+//! (`sim::tripwire`): the next re-assignment makes that point EIL, where
+//! iterating on would only stiffen the closed segment's stretch without
+//! bound (docs/RELAX.md section 12).
+//!
 //! The equilibrium test also runs inside each step, at every Newton
 //! iterate (`NewtonParams::max_force_tol`). The steps of the float patterns
 //! end at their iteration cap and their residual swings within a step, so
@@ -79,6 +85,8 @@ pub struct RelaxReport {
     pub converged: bool,
     pub cancelled: bool,
     pub max_eil: usize,
+    /// Steps that ended early at a closed segment (`sim::tripwire`).
+    pub closed_segment_steps: usize,
 }
 
 /// Relaxes `sim` in place. `on_iter` sees every Newton iteration with the
@@ -104,6 +112,7 @@ pub fn relax(
             converged: false,
             cancelled: false,
             max_eil: 0,
+            closed_segment_steps: 0,
         };
         while rep.steps < opts.max_steps {
             if rep.residual <= opts.tol {
@@ -118,6 +127,7 @@ pub fn relax(
             rep.steps += 1;
             rep.newton_iterations += s.newton_iterations;
             rep.max_eil = rep.max_eil.max(s.eil_count);
+            rep.closed_segment_steps += usize::from(s.closed_segment);
             rep.residual = sim.static_residual()?;
             on_step(rep.steps, rep.residual);
         }

@@ -19,6 +19,7 @@ use super::problem::EolProblem;
 use super::slide_stops::SlideStops;
 use super::system::{build_sets, rest_data, Discretization, RestData, StepInputs};
 use super::transfer::transfer;
+use super::tripwire::Tripwire;
 use crate::solver::assembly::{gradient, AnyStencilSet, AssemblyError};
 use crate::solver::linear::LinearSolver;
 use crate::solver::newton::{IterStats, NewtonError, NewtonHooks, NewtonParams, NewtonStatus};
@@ -43,6 +44,8 @@ pub struct StepReport {
     pub retries: usize,
     pub eil_count: usize,
     pub converged: bool,
+    /// The step ended early because a real segment closed (`sim::tripwire`).
+    pub closed_segment: bool,
 }
 
 pub struct Simulation {
@@ -137,6 +140,18 @@ impl Simulation {
         }
         let margin: Vec<f64> = self.rest.rest_seg.iter().map(|s| a.stop_fraction * s).collect();
         SlideStops::new(disc, &margin)
+    }
+
+    /// The segments whose closing ends a relaxation step (`sim::tripwire`):
+    /// none without EIL or with `close_fraction` 0.
+    fn tripwire(&self) -> Tripwire {
+        let a = &self.params.assign;
+        if !a.enable_eil || a.close_fraction <= 0.0 {
+            return Tripwire::default();
+        }
+        let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
+        let closed_below: Vec<f64> = self.rest.rest_seg.iter().map(|s| a.close_fraction * s).collect();
+        Tripwire::new(&disc, &closed_below)
     }
 
     /// The Newton problem of these sets, with the thickness contact attached.
@@ -236,6 +251,9 @@ impl Simulation {
                 q0.clone()
             };
             let mut problem = self.problem(Some((h, &pred)))?;
+            if !dynamic {
+                problem = problem.with_tripwire(self.tripwire());
+            }
             let mut q = q0.clone();
             let mut cb = |s: &IterStats| on_iter(s, eil_count);
             let hooks = NewtonHooks {
@@ -247,7 +265,9 @@ impl Simulation {
             // that lowered the energy is progress, so hitting the iteration cap
             // is not a failure there (dynamics must converge every step).
             let decreased = report.history.first().is_some_and(|s0| report.energy < s0.energy);
-            let accept_partial = !dynamic && decreased && report.status == NewtonStatus::MaxIterations;
+            let accept_partial = !dynamic
+                && decreased
+                && matches!(report.status, NewtonStatus::MaxIterations | NewtonStatus::Rediscretize);
             if report.converged() || accept_partial || report.status == NewtonStatus::Cancelled {
                 let converged = report.converged();
                 self.v = if dynamic {
@@ -283,6 +303,7 @@ impl Simulation {
                     retries,
                     eil_count,
                     converged,
+                    closed_segment: report.status == NewtonStatus::Rediscretize,
                 });
             }
             retries += 1;

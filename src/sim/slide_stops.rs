@@ -106,14 +106,14 @@ impl SlideStops {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::sim::assignment::{assign, rest_segment_lengths, tests::meta, AssignParams};
     use crate::sim::dofs::DofLayout;
     use crate::topology::{Fabric, Node, Vec3, Yarn, YarnPoint};
 
     /// One straight yarn: fixed end, two sliding points, fixed end.
-    fn fabric(us: [f64; 4]) -> Fabric {
+    pub(crate) fn fabric(us: [f64; 4]) -> Fabric {
         let points = us
             .iter()
             .enumerate()

@@ -68,6 +68,14 @@ pub trait Problem {
     fn bounds(&self, _q: &[f64], _lower: &mut [f64], _upper: &mut [f64]) -> bool {
         false
     }
+    /// Whether the accepted iterate `q` has left the region where this
+    /// problem's discretization holds (for a yarn model: a real segment
+    /// has closed, `sim::tripwire`). Checked after every accepted step;
+    /// `true` ends the solve with [`NewtonStatus::Rediscretize`] so the
+    /// caller can rebuild the problem there. Default: never.
+    fn must_rediscretize(&self, _q: &[f64]) -> bool {
+        false
+    }
     /// Block-Jacobi partition for CG (starts, closed by `n`); empty = scalar Jacobi.
     fn blocks(&self) -> Vec<usize> {
         Vec::new()
@@ -175,6 +183,9 @@ pub enum NewtonStatus {
     LineSearchFailed,
     /// `max_step` allowed no motion at all.
     Blocked,
+    /// An accepted step left the problem's discretization
+    /// ([`Problem::must_rediscretize`]); `q` is that iterate.
+    Rediscretize,
 }
 
 #[derive(Clone, Debug)]

@@ -125,7 +125,10 @@ pub fn minimize<P: Problem + ?Sized>(
                 &mut stats,
             );
             damping = next_damping(damping, &stats, params);
-            outcome
+            match outcome {
+                None if stats.step > 0.0 && problem.must_rediscretize(q) => Some(NewtonStatus::Rediscretize),
+                other => other,
+            }
         };
         stats.elapsed_s = start.elapsed().as_secs_f64();
         if let Some(cb) = hooks.on_iteration.as_mut() {

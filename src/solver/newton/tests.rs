@@ -196,6 +196,77 @@ fn max_step_caps_the_first_step() {
     assert!(max_diff(&q, &expect) < 1e-12);
 }
 
+/// [`Quadratic`] whose discretization "breaks" once `q[last]` has gone
+/// more than `fraction` of the way to `target`.
+struct Breaking {
+    inner: Quadratic,
+    target: f64,
+    fraction: f64,
+}
+
+impl Problem for Breaking {
+    fn energy(&mut self, q: &[f64]) -> f64 {
+        self.inner.energy(q)
+    }
+    fn gradient_hessian(&mut self, q: &[f64], g: &mut [f64], h: &mut CsrMatrix) -> Result<(), AssemblyError> {
+        self.inner.gradient_hessian(q, g, h)
+    }
+    fn hessian_pattern(&self) -> CsrMatrix {
+        self.inner.hessian_pattern()
+    }
+    fn free(&self) -> &[bool] {
+        self.inner.free()
+    }
+    fn max_step(&mut self, q: &[f64], dq: &[f64]) -> f64 {
+        self.inner.max_step(q, dq)
+    }
+    fn must_rediscretize(&self, q: &[f64]) -> bool {
+        q[q.len() - 1] / self.target > self.fraction
+    }
+}
+
+#[test]
+fn a_step_that_leaves_the_discretization_ends_the_solve_on_that_iterate() {
+    // Capped steps of 1/4 approach the minimiser geometrically; the last
+    // coordinate crosses `at` on the third step.
+    let target = Quadratic::new(8, 1.0).exact(0.0)[7];
+    let fraction = 0.99 * (1.0 - 0.75f64.powi(3));
+    assert!(target != 0.0 && 1.0 - 0.75f64.powi(2) < fraction);
+    let mut p = Breaking {
+        inner: Quadratic::new(8, 0.25),
+        target,
+        fraction,
+    };
+    let mut q = vec![0.0; 8];
+    let rep = minimize(
+        &mut p,
+        &mut q,
+        &mut LinearSolver::direct(),
+        &NewtonParams::default(),
+        Default::default(),
+    )
+    .unwrap();
+    assert_eq!(rep.status, NewtonStatus::Rediscretize);
+    assert_eq!(rep.history.len(), 3);
+    // The same three iterations without the test end on the same iterate.
+    let mut plain = Quadratic::new(8, 0.25);
+    let mut q3 = vec![0.0; 8];
+    let params = NewtonParams {
+        max_iterations: 3,
+        ..Default::default()
+    };
+    minimize(
+        &mut plain,
+        &mut q3,
+        &mut LinearSolver::direct(),
+        &params,
+        Default::default(),
+    )
+    .unwrap();
+    assert_eq!(q, q3);
+    assert!(q[7] / target > fraction);
+}
+
 #[test]
 fn cancellation_stops_between_iterations() {
     let stop = AtomicBool::new(false);
