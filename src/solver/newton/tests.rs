@@ -125,15 +125,17 @@ fn quadratic_converges_in_one_direct_step() {
     assert_eq!(q[0], 0.3, "pinned coordinate moved");
 }
 
-/// [`Quadratic`] with a lower bound on one coordinate, which the
-/// unconstrained minimiser violates.
-struct Boxed {
+/// [`Quadratic`] with optional extras: a lower bound `(k, lo)` on one
+/// coordinate ([`Problem::bounds`]), and a discretization that "breaks"
+/// once `q[last]` has gone more than `fraction` of the way to `target`
+/// ([`Problem::must_rediscretize`]), as `(target, fraction)`.
+struct Extended {
     inner: Quadratic,
-    k: usize,
-    lo: f64,
+    lower: Option<(usize, f64)>,
+    breaks: Option<(f64, f64)>,
 }
 
-impl Problem for Boxed {
+impl Problem for Extended {
     fn energy(&mut self, q: &[f64]) -> f64 {
         self.inner.energy(q)
     }
@@ -146,9 +148,17 @@ impl Problem for Boxed {
     fn free(&self) -> &[bool] {
         self.inner.free()
     }
+    fn max_step(&mut self, q: &[f64], dq: &[f64]) -> f64 {
+        self.inner.max_step(q, dq)
+    }
     fn bounds(&self, _q: &[f64], lower: &mut [f64], _upper: &mut [f64]) -> bool {
-        lower[self.k] = self.lo;
+        let Some((k, lo)) = self.lower else { return false };
+        lower[k] = lo;
         true
+    }
+    fn must_rediscretize(&self, q: &[f64]) -> bool {
+        self.breaks
+            .is_some_and(|(target, fraction)| q[q.len() - 1] / target > fraction)
     }
 }
 
@@ -157,10 +167,10 @@ fn a_bounded_coordinate_stops_at_its_bound_and_the_rest_converge() {
     let n = 10;
     let free_min = Quadratic::new(n, 1.0).exact(0.0);
     let (k, lo) = (5, free_min[5] + 0.2);
-    let mut p = Boxed {
+    let mut p = Extended {
         inner: Quadratic::new(n, 1.0),
-        k,
-        lo,
+        lower: Some((k, lo)),
+        breaks: None,
     };
     // The constrained minimiser: coordinates 0 and k held (a dense solve).
     let expect = p.inner.exact_holding(&[(0, 0.0), (k, lo)]);
@@ -196,35 +206,6 @@ fn max_step_caps_the_first_step() {
     assert!(max_diff(&q, &expect) < 1e-12);
 }
 
-/// [`Quadratic`] whose discretization "breaks" once `q[last]` has gone
-/// more than `fraction` of the way to `target`.
-struct Breaking {
-    inner: Quadratic,
-    target: f64,
-    fraction: f64,
-}
-
-impl Problem for Breaking {
-    fn energy(&mut self, q: &[f64]) -> f64 {
-        self.inner.energy(q)
-    }
-    fn gradient_hessian(&mut self, q: &[f64], g: &mut [f64], h: &mut CsrMatrix) -> Result<(), AssemblyError> {
-        self.inner.gradient_hessian(q, g, h)
-    }
-    fn hessian_pattern(&self) -> CsrMatrix {
-        self.inner.hessian_pattern()
-    }
-    fn free(&self) -> &[bool] {
-        self.inner.free()
-    }
-    fn max_step(&mut self, q: &[f64], dq: &[f64]) -> f64 {
-        self.inner.max_step(q, dq)
-    }
-    fn must_rediscretize(&self, q: &[f64]) -> bool {
-        q[q.len() - 1] / self.target > self.fraction
-    }
-}
-
 #[test]
 fn a_step_that_leaves_the_discretization_ends_the_solve_on_that_iterate() {
     // Capped steps of 1/4 approach the minimiser geometrically; the last
@@ -232,10 +213,10 @@ fn a_step_that_leaves_the_discretization_ends_the_solve_on_that_iterate() {
     let target = Quadratic::new(8, 1.0).exact(0.0)[7];
     let fraction = 0.99 * (1.0 - 0.75f64.powi(3));
     assert!(target != 0.0 && 1.0 - 0.75f64.powi(2) < fraction);
-    let mut p = Breaking {
+    let mut p = Extended {
         inner: Quadratic::new(8, 0.25),
-        target,
-        fraction,
+        lower: None,
+        breaks: Some((target, fraction)),
     };
     let mut q = vec![0.0; 8];
     let rep = minimize(
