@@ -124,11 +124,25 @@ impl Simulation {
 
     /// Builds the Newton problem for the current assignment; `inertia` as in [`StepInputs`].
     pub fn problem(&self, inertia: Option<(f64, &[f64])>) -> Result<EolProblem, SimError> {
+        self.step_problem(inertia, false)
+    }
+
+    /// [`problem`](Self::problem), with the tripwire of a relaxation step
+    /// when `relaxing` (`sim::tripwire`).
+    fn step_problem(&self, inertia: Option<(f64, &[f64])>, relaxing: bool) -> Result<EolProblem, SimError> {
         let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
         let sets = self.sets(&disc, inertia);
         let contact = ContactTerms::new(&disc, &self.q, &self.params, &self.contact);
         let stops = self.slide_stops(&disc);
-        Ok(self.problem_of(sets, contact)?.with_slide_stops(stops))
+        let tripwire = if relaxing {
+            self.tripwire(&disc)
+        } else {
+            Tripwire::default()
+        };
+        Ok(self
+            .problem_of(sets, contact)?
+            .with_slide_stops(stops)
+            .with_tripwire(tripwire))
     }
 
     /// Where sliding points stop within a step (`sim::slide_stops`): none
@@ -144,14 +158,13 @@ impl Simulation {
 
     /// The segments whose closing ends a relaxation step (`sim::tripwire`):
     /// none without EIL or with `close_fraction` 0.
-    fn tripwire(&self) -> Tripwire {
+    fn tripwire(&self, disc: &Discretization) -> Tripwire {
         let a = &self.params.assign;
         if !a.enable_eil || a.close_fraction <= 0.0 {
             return Tripwire::default();
         }
-        let disc = Discretization::new(&self.fabric, &self.layout, &self.assignment);
         let closed_below: Vec<f64> = self.rest.rest_seg.iter().map(|s| a.close_fraction * s).collect();
-        Tripwire::new(&disc, &closed_below)
+        Tripwire::new(disc, &closed_below)
     }
 
     /// The Newton problem of these sets, with the thickness contact attached.
@@ -250,10 +263,7 @@ impl Simulation {
             } else {
                 q0.clone()
             };
-            let mut problem = self.problem(Some((h, &pred)))?;
-            if !dynamic {
-                problem = problem.with_tripwire(self.tripwire());
-            }
+            let mut problem = self.step_problem(Some((h, &pred)), !dynamic)?;
             let mut q = q0.clone();
             let mut cb = |s: &IterStats| on_iter(s, eil_count);
             let hooks = NewtonHooks {
