@@ -145,26 +145,24 @@ impl Simulation {
             .with_tripwire(tripwire))
     }
 
-    /// Where sliding points stop within a step (`sim::slide_stops`): none
-    /// without EIL or with `stop_fraction` 0.
-    fn slide_stops(&self, disc: &Discretization) -> SlideStops {
-        let a = &self.params.assign;
-        if !a.enable_eil || a.stop_fraction <= 0.0 {
-            return SlideStops::default();
-        }
-        let margin: Vec<f64> = self.rest.rest_seg.iter().map(|s| a.stop_fraction * s).collect();
-        SlideStops::new(disc, &margin)
+    /// `fraction` of each yarn's rest segment, the distances of the
+    /// sliding stops and the tripwire; `None` (the mechanism is off)
+    /// without EIL or with `fraction` 0.
+    fn eil_margins(&self, fraction: f64) -> Option<Vec<f64>> {
+        (self.params.assign.enable_eil && fraction > 0.0)
+            .then(|| self.rest.rest_seg.iter().map(|s| fraction * s).collect())
     }
 
-    /// The segments whose closing ends a relaxation step (`sim::tripwire`):
-    /// none without EIL or with `close_fraction` 0.
+    /// Where sliding points stop within a step (`sim::slide_stops`).
+    fn slide_stops(&self, disc: &Discretization) -> SlideStops {
+        self.eil_margins(self.params.assign.stop_fraction)
+            .map_or_else(SlideStops::default, |m| SlideStops::new(disc, &m))
+    }
+
+    /// The segments whose closing ends a relaxation step (`sim::tripwire`).
     fn tripwire(&self, disc: &Discretization) -> Tripwire {
-        let a = &self.params.assign;
-        if !a.enable_eil || a.close_fraction <= 0.0 {
-            return Tripwire::default();
-        }
-        let closed_below: Vec<f64> = self.rest.rest_seg.iter().map(|s| a.close_fraction * s).collect();
-        Tripwire::new(disc, &closed_below)
+        self.eil_margins(self.params.assign.close_fraction)
+            .map_or_else(Tripwire::default, |m| Tripwire::new(disc, &m))
     }
 
     /// The Newton problem of these sets, with the thickness contact attached.
