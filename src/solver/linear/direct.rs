@@ -265,14 +265,10 @@ impl DirectSolver {
     ) -> Result<FactorKind, DirectError> {
         self.analyze(a)?;
         self.factor = None;
-        // The diagonal through the analysis' cached slots, not a search per
-        // row (`CsrMatrix::diagonal`); a missing diagonal counts as 0.
         let an = self.analysis.as_ref().ok_or(DirectError::NotFactorized)?;
         let max_diag = an
             .lower
-            .diag
-            .iter()
-            .map(|d| d.map_or(0.0, |k| a.values[an.lower.source[k]]))
+            .diagonal(a)
             .fold(0.0f64, |m, d| m.max(d.abs()))
             .max(f64::MIN_POSITIVE);
         let mut attempts: Vec<FactorKind> = vec![FactorKind::Llt];
@@ -404,8 +400,8 @@ impl DirectSolver {
         let mut ax = vec![0.0; n];
         a.mul_vec(&x, &mut ax);
         let (mut rr, mut bb) = (0.0, 0.0);
-        for (i, d) in an.lower.diag.iter().enumerate() {
-            let d = (d.map_or(0.0, |k| a.values[an.lower.source[k]]) + shift).abs();
+        for (i, d) in an.lower.diagonal(a).enumerate() {
+            let d = (d + shift).abs();
             let s = if d.is_normal() { d.sqrt().recip() } else { 1.0 };
             let r = s * (ax[i] + shift * x[i] - b[i]);
             let sb = s * b[i];

@@ -82,6 +82,13 @@ impl LowerPattern {
         }
     }
 
+    /// The diagonal of `a` (of the pattern this was built from) through
+    /// the cached slots, not a search per row (`CsrMatrix::diagonal`); a
+    /// structurally missing diagonal counts as 0.
+    pub fn diagonal<'a>(&'a self, a: &'a CsrMatrix) -> impl Iterator<Item = f64> + 'a {
+        self.diag.iter().map(|d| d.map_or(0.0, |k| a.values[self.source[k]]))
+    }
+
     /// Whether `a` (of the pattern this was built from) is zero wherever
     /// this left an entry out, so a factor of the kept entries is a factor of `a`.
     pub fn fits(&self, a: &CsrMatrix) -> bool {
