@@ -28,6 +28,8 @@
 //!
 //! [`bind`]: AnyStencilSet::bind
 
+mod slots;
+
 use crate::energy::Stencil;
 use crate::parallel::{ordered_map, threads};
 use crate::solver::sparse::CsrMatrix;
@@ -156,19 +158,11 @@ impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
 
     fn bind(&mut self, h: &CsrMatrix) -> Result<(), AssemblyError> {
         self.validate(h.n)?;
-        let mut slots = Vec::with_capacity(self.dofs.len() * N * N);
-        for d in &self.dofs {
-            for &r in d {
-                for &c in d {
-                    let slot = h.find(r as usize, c as usize).ok_or(AssemblyError::MissingEntry {
-                        set: self.name.clone(),
-                        row: r as usize,
-                        col: c as usize,
-                    })?;
-                    slots.push(slot);
-                }
-            }
-        }
+        let slots = slots::block_slots(&self.dofs, h).map_err(|(row, col)| AssemblyError::MissingEntry {
+            set: self.name.clone(),
+            row,
+            col,
+        })?;
         self.slots = slots;
         self.bound_shape = (h.n, h.nnz());
         Ok(())
