@@ -40,9 +40,11 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
 use lower::LowerPattern;
 pub use ordering::Ordering;
+use subnormals::FlushSubnormals;
 
 mod lower;
 mod ordering;
+mod subnormals;
 
 /// Tuning of the fallback chain; see the module docs.
 #[derive(Clone, Copy, Debug)]
@@ -314,6 +316,7 @@ impl DirectSolver {
 
     fn try_factor(&mut self, a: &CsrMatrix, kind: FactorKind) -> bool {
         let Some(an) = &self.analysis else { return false };
+        let _flush = FlushSubnormals::new();
         for (dst, &src) in self.lower_values.iter_mut().zip(&an.lower.source) {
             *dst = a.values[src];
         }
@@ -430,6 +433,7 @@ impl DirectSolver {
             return Err(DirectError::Dimension { n, len: rhs.len() });
         }
         let par = self.par();
+        let _flush = FlushSubnormals::new();
         let mut mem = MemBuffer::new(an.symbolic.solve_in_place_scratch::<f64>(1, par));
         let stack = MemStack::new(&mut mem);
         let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
