@@ -14,7 +14,8 @@
 //! - **Precomputed value slots.** After the pattern is built, [`bind`] looks
 //!   up once, per stencil, where each of its `N*N` local entries lives in
 //!   `CsrMatrix::values`. Every Newton iteration then scatters without a
-//!   search.
+//!   search, and the lookup itself goes row by row (`slots`), since each
+//!   relaxation step binds a new problem.
 //! - **Parallel evaluation, serial scatter.** Stencils are evaluated in
 //!   blocks on [`threads`] threads (spawned once per call, see
 //!   [`ordered_map`]); the results are scattered, and energies summed, in

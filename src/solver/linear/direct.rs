@@ -27,6 +27,9 @@
 //!   indefinite but nonsingular systems. Every solve is checked by its
 //!   residual against the matrix actually factored, because a pivot that is
 //!   tiny rather than negative passes LLT and returns garbage.
+//! - **Subnormals flushed to zero** while factoring and solving
+//!   (`subnormals`): the factor of a heavily damped matrix fills with them,
+//!   and x86 computes them in microcode.
 
 use crate::solver::sparse::CsrMatrix;
 use faer::dyn_stack::{MemBuffer, MemStack};
