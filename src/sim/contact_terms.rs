@@ -419,6 +419,7 @@ pub fn minimize(
             let round_hooks = NewtonHooks {
                 on_iteration: Some(&mut on_iter),
                 cancel: Some(&stop),
+                on_accepted: hooks.on_accepted.as_mut().map(|cb| &mut **cb as &mut dyn FnMut(&[f64])),
             };
             newton::minimize(
                 &mut RestartOnTrust { problem, stop: &stop },

@@ -75,6 +75,11 @@ pub struct Simulation {
     /// carried from step to step while separation is on (`sim::separation`);
     /// empty otherwise.
     pub contact_normals: Vec<crate::topology::Vec3>,
+    /// When `Some`, every accepted Newton iterate of the following steps is
+    /// appended (`NewtonHooks::on_accepted`), the iterates of a retried
+    /// attempt removed again: the path the solver took, for tests and
+    /// diagnostics that audit it. `None` (the default) records nothing.
+    pub iterate_log: Option<Vec<Vec<f64>>>,
 }
 
 impl Simulation {
@@ -105,6 +110,7 @@ impl Simulation {
             contact: ContactState::default(),
             removed: Vec::new(),
             contact_normals: Vec::new(),
+            iterate_log: None,
         };
         if sim.params.separation.is_some() {
             sim.update_contact_normals();
@@ -264,9 +270,12 @@ impl Simulation {
             let mut problem = self.step_problem(Some((h, &pred)), !dynamic)?;
             let mut q = q0.clone();
             let mut cb = |s: &IterStats| on_iter(s, eil_count);
+            let logged = self.iterate_log.as_ref().map_or(0, Vec::len);
+            let mut log = self.iterate_log.as_mut().map(|l| move |q: &[f64]| l.push(q.to_vec()));
             let hooks = NewtonHooks {
                 on_iteration: Some(&mut cb),
                 cancel,
+                on_accepted: log.as_mut().map(|f| f as &mut dyn FnMut(&[f64])),
             };
             let report = contact_terms::minimize(&mut problem, &mut q, &mut self.solver, &self.newton, hooks)?;
             // A relaxation step is a proximal step in pseudo time: any iterate
@@ -313,6 +322,9 @@ impl Simulation {
                     converged,
                     closed_segment: report.status == NewtonStatus::Rediscretize,
                 });
+            }
+            if let Some(l) = self.iterate_log.as_mut() {
+                l.truncate(logged);
             }
             retries += 1;
             self.h *= 0.5;

@@ -220,11 +220,19 @@ pub enum NewtonError {
     Assembly(#[from] AssemblyError),
 }
 
-/// Per-iteration hooks: a progress callback and a cancellation flag.
+/// A callback that sees the coordinates of each accepted iterate.
+pub type IterateCallback<'a> = &'a mut dyn FnMut(&[f64]);
+
+/// Per-iteration hooks: a progress callback, a cancellation flag, and the
+/// iterates themselves.
 #[derive(Default)]
 pub struct NewtonHooks<'a> {
     pub on_iteration: Option<&'a mut dyn FnMut(&IterStats)>,
     pub cancel: Option<&'a AtomicBool>,
+    /// Called with `q` after every accepted step: the path the solver took,
+    /// each piece of it a straight line the line search (and its CCD cap)
+    /// checked. For diagnostics and tests that audit the path.
+    pub on_accepted: Option<IterateCallback<'a>>,
 }
 
 mod bounds;

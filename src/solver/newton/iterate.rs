@@ -130,6 +130,11 @@ pub fn minimize<P: Problem + ?Sized>(
                 other => other,
             }
         };
+        if stats.step > 0.0 {
+            if let Some(cb) = hooks.on_accepted.as_mut() {
+                cb(q);
+            }
+        }
         stats.elapsed_s = start.elapsed().as_secs_f64();
         if let Some(cb) = hooks.on_iteration.as_mut() {
             cb(&stats);

@@ -260,6 +260,7 @@ fn cancellation_stops_between_iterations() {
     let hooks = NewtonHooks {
         on_iteration: Some(&mut on_iteration),
         cancel: Some(&stop),
+        on_accepted: None,
     };
     let rep = minimize(
         &mut p,
@@ -398,4 +399,30 @@ fn hanging_chain_reaches_the_analytic_equilibrium_with_both_solvers() {
         assert_eq!(energies[0], e_start);
         assert!(rep.history.iter().all(|s| s.elapsed_s >= 0.0));
     }
+}
+
+#[test]
+fn every_accepted_iterate_is_reported_in_order() {
+    let (mut p, mut q) = hanging_chain(6);
+    let mut path: Vec<Vec<f64>> = Vec::new();
+    let mut on_accepted = |x: &[f64]| path.push(x.to_vec());
+    let hooks = NewtonHooks {
+        on_accepted: Some(&mut on_accepted),
+        ..Default::default()
+    };
+    let rep = minimize(
+        &mut p,
+        &mut q,
+        &mut LinearSolver::direct(),
+        &NewtonParams::default(),
+        hooks,
+    )
+    .unwrap();
+    assert!(rep.converged());
+    // One state per step taken, the last one the solution returned.
+    assert_eq!(path.len(), rep.steps());
+    assert!(path.len() >= 2);
+    assert_eq!(path.last().unwrap().as_slice(), q.as_slice());
+    // Each reported state is a new one (a step moved it).
+    assert!(path.windows(2).all(|w| w[0] != w[1]));
 }
