@@ -8,7 +8,7 @@
 //! Jacobi [`sym_eigen`] stays as the fallback when QR does not converge
 //! (non-finite input) and as an independent check in tests.
 
-use nalgebra::{DMatrix, Matrix5, SMatrix, SymmetricEigen};
+use nalgebra::{DMatrix, SMatrix, SymmetricEigen};
 
 /// Symmetric eigen-decomposition by cyclic Jacobi: returns (eigenvalues, eigenvectors as columns).
 pub fn sym_eigen<const N: usize>(m: &SMatrix<f64, N, N>) -> ([f64; N], SMatrix<f64, N, N>) {
@@ -152,16 +152,7 @@ pub fn project_psd_reduced<const N: usize, const R: usize>(
     anchor: &[usize; R],
 ) -> SMatrix<f64, N, N> {
     let hr = SMatrix::<f64, R, R>::from_fn(|k, l| 0.5 * (h[(kept[k], kept[l])] + h[(kept[l], kept[k])]));
-    expand_reduced(&project_psd(&hr), kept, anchor)
-}
-
-/// `J^T P J` for the difference map `J` of [`project_psd_reduced`]: the
-/// full-size matrix of a reduced one `P` in `r_k = x[kept[k]] - x[anchor[k]]`.
-pub fn expand_reduced<const N: usize, const R: usize>(
-    p: &SMatrix<f64, R, R>,
-    kept: &[usize; R],
-    anchor: &[usize; R],
-) -> SMatrix<f64, N, N> {
+    let p = project_psd(&hr);
     let mut out = SMatrix::<f64, N, N>::zeros();
     for k in 0..R {
         for l in 0..R {
@@ -170,31 +161,6 @@ pub fn expand_reduced<const N: usize, const R: usize>(
             out[(anchor[k], kept[l])] -= v;
             out[(kept[k], anchor[l])] -= v;
             out[(anchor[k], anchor[l])] += v;
-        }
-    }
-    out
-}
-
-/// [`project_psd`] for a 5x5 matrix, on nalgebra's stack-allocated
-/// eigen-solver (a concrete size needs no heap copy).
-pub fn project_psd5(m: &Matrix5<f64>) -> Matrix5<f64> {
-    let sym = (m + m.transpose()) * 0.5;
-    if is_numerically_psd(m) {
-        return sym;
-    }
-    let (ev, v) = match SymmetricEigen::try_new(sym, f64::EPSILON, 500) {
-        Some(se) => (se.eigenvalues.into(), se.eigenvectors),
-        None => sym_eigen(m),
-    };
-    let ev: [f64; 5] = ev;
-    if ev.iter().all(|&e| e >= 0.0) {
-        return sym;
-    }
-    let mut out = Matrix5::zeros();
-    for (i, &e) in ev.iter().enumerate() {
-        if e > 0.0 {
-            let c = v.column(i);
-            out += c * c.transpose() * e;
         }
     }
     out

@@ -113,17 +113,11 @@ impl Stencil<12> for Bending {
         if !project {
             return (g, h);
         }
-        // Split by the bend's mirror symmetry where its plane is well
-        // defined (`bending_psd`); otherwise the general projection, which
-        // uses only the invariance under translating the three nodes and
-        // shifting the three `u` together: (x1, u1, x2, u2) relative to (x0, u0).
+        // Invariant under translating the three nodes and shifting the three
+        // `u` together: project in (x1, u1, x2, u2) relative to (x0, u0).
         const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
         const ANCHOR: [usize; 8] = [0, 1, 2, 3, 0, 1, 2, 3];
-        let x0 = q.fixed_rows::<3>(X0);
-        let (r1, r2) = (q.fixed_rows::<3>(X1) - x0, q.fixed_rows::<3>(X2) - x0);
-        let hp = super::bending_psd::project_bending(&h, &r1, &r2)
-            .unwrap_or_else(|| crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR));
-        (g, hp)
+        (g, crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR))
     }
 }
 

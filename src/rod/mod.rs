@@ -33,16 +33,10 @@
 //! tangle of products (wrapping), [`jet`] computes exact second derivatives by
 //! forward-mode differentiation instead of a hand derivation.
 //!
-//! Bending is the most numerous indefinite stencil, and its PSD projection
-//! was the largest cost of a relaxation after the factorization;
-//! [`bending_psd`] does it on two small blocks that the bend's mirror
-//! symmetry separates, with the same result as the general projection.
-//!
 //! Parameters for a whole fabric are gathered in [`params::RodParams`].
 
 pub mod angle;
 pub mod bending;
-pub mod bending_psd;
 pub mod damping;
 pub mod eil;
 pub mod friction;
