@@ -20,10 +20,8 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use common::{compiled, jitter};
-use knitsim::scene::params_for;
-use knitsim::sim::{configure_relax, RelaxOptions, Simulation};
-use knitsim::solver::linear::LinearSolver;
+use common::relaxing;
+use knitsim::sim::Simulation;
 use knitsim::solver::newton::Problem;
 use knitsim::topology::PointRef;
 
@@ -33,12 +31,7 @@ fn main() -> anyhow::Result<()> {
     let n: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(20);
     let seed: u64 = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(0);
     let steps: usize = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(6);
-    let mut fabric = compiled(name, n)?;
-    jitter(&mut fabric, seed);
-    let opts = RelaxOptions::default();
-    let params = params_for(&fabric, None)?;
-    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
-    configure_relax(&mut sim, &opts);
+    let mut sim = relaxing(name, n, seed)?;
     let nx = 3 * sim.fabric.nodes.len();
     let unknown = |j: usize| {
         if j < nx {

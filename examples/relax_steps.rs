@@ -20,9 +20,8 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use common::{compiled, jitter};
-use knitsim::sim::{configure_relax, RelaxOptions, Simulation};
-use knitsim::solver::linear::LinearSolver;
+use common::relaxing;
+use knitsim::sim::{RelaxOptions, Simulation};
 use knitsim::topology::Fabric;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -33,12 +32,8 @@ fn main() -> anyhow::Result<()> {
     let n: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(20);
     let past: usize = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(0);
     let seed: u64 = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(0);
-    let mut fabric = compiled(name, n)?;
-    jitter(&mut fabric, seed);
     let opts = RelaxOptions::default();
-    let params = knitsim::scene::params_for(&fabric, None)?;
-    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
-    configure_relax(&mut sim, &opts);
+    let mut sim = relaxing(name, n, seed)?;
     let kinds = point_kinds(&sim.fabric);
     println!("{name} {n}x{n}, {} unknowns, seed {seed}", sim.q.len());
     let t0 = Instant::now();

@@ -62,3 +62,24 @@ pub fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabri
     };
     Ok(compile(&parsed.pattern, &opts)?)
 }
+
+/// A simulation of the shipped pattern `name` at `n x n` stitches, jittered
+/// by `seed`, set up for the default relaxation schedule
+/// (`sim::configure_relax`): what the step-by-step diagnostics start from,
+/// so that they follow `sim::relax`'s path.
+#[allow(dead_code)]
+pub fn relaxing(name: &str, n: usize, seed: u64) -> anyhow::Result<knitsim::sim::Simulation> {
+    use knitsim::sim::{configure_relax, RelaxOptions, Simulation};
+    let mut fabric = compiled(name, n)?;
+    jitter(&mut fabric, seed);
+    let opts = RelaxOptions::default();
+    let params = knitsim::scene::params_for(&fabric, None)?;
+    let mut sim = Simulation::new(
+        fabric,
+        params,
+        knitsim::solver::linear::LinearSolver::direct(),
+        opts.h_initial,
+    );
+    configure_relax(&mut sim, &opts);
+    Ok(sim)
+}
