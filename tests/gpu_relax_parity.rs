@@ -74,6 +74,7 @@ fn yarn_options() -> RelaxOptions {
         h_initial: 1.0,
         h_max: 1.0,
         newton_rel_tol: 1e-8,
+        ..RelaxOptions::default()
     }
 }
 

@@ -54,6 +54,7 @@ fn sag_error(n: usize) -> f64 {
             h_initial: 1.0,
             h_max: 1.0,
             newton_rel_tol: 1e-8,
+            ..RelaxOptions::default()
         },
         None,
         &mut |_, _| {},

@@ -228,3 +228,31 @@ fn a_jacquard_with_a_thicker_contrast_yarn_relaxes() {
     assert_eq!(radii, vec![0.7e-3, 1.0e-3], "both yarn radii reach the simulator");
     relax_pattern(&path, "loose", SimParams::default()).unwrap_or_else(|e| panic!("{e}"));
 }
+
+/// While relaxing, an EIL point is never turned real again
+/// (`RelaxOptions::release_eil` off, docs/RELAX.md section 15), new EIL
+/// points still appear, and `relax` hands the simulation back with the
+/// scene's release rule, so dynamics afterwards releases as before.
+#[test]
+fn relaxation_keeps_its_eil_points_and_restores_the_release_rule() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/linen-stitch.knit");
+    let fabric = small_fabric(&path, "loose");
+    let params = params_for(&fabric, None).unwrap();
+    let release = params.assign.release_fraction;
+    let opts = RelaxOptions::default();
+    let mut sim = Simulation::new(fabric.clone(), params.clone(), LinearSolver::direct(), opts.h_initial);
+    knitsim::sim::configure_relax(&mut sim, &opts);
+    let mut seen = vec![false; sim.assignment.eil.len()];
+    for step in 0..8 {
+        sim.step(false, None, &mut |_, _| {}).unwrap();
+        for (s, &e) in seen.iter_mut().zip(&sim.assignment.eil) {
+            assert!(e || !*s, "step {step}: an EIL point was released");
+            *s |= e;
+        }
+    }
+    assert!(seen.iter().any(|&s| s), "no point ever turned EIL");
+    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
+    let short = RelaxOptions { max_steps: 3, ..opts };
+    relax(&mut sim, short, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
+    assert_eq!(sim.params.assign.release_fraction, release);
+}

@@ -62,6 +62,10 @@ enum Command {
         /// Plain EoL without EIL nodes (to show why EIL matters).
         #[arg(long)]
         no_eil: bool,
+        /// Let EIL points turn real again between relaxation steps (off by
+        /// default while relaxing; docs/RELAX.md section 15).
+        #[arg(long)]
+        release_eil: bool,
         /// Static residual tolerance (largest free force / axial stiffness).
         #[arg(long, default_value_t = RelaxOptions::default().tol)]
         tol: f64,
@@ -121,6 +125,7 @@ fn run(cli: Cli) -> Result<()> {
             solver,
             scene,
             no_eil,
+            release_eil,
             tol,
             max_steps,
             contact,
@@ -131,6 +136,7 @@ fn run(cli: Cli) -> Result<()> {
             RelaxOptions {
                 tol,
                 max_steps,
+                release_eil,
                 ..RelaxOptions::default()
             },
             &opts,
