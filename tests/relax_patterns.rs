@@ -229,28 +229,40 @@ fn a_jacquard_with_a_thicker_contrast_yarn_relaxes() {
     relax_pattern(&path, "loose", SimParams::default()).unwrap_or_else(|e| panic!("{e}"));
 }
 
-/// While relaxing, an EIL point is never turned real again
-/// (`RelaxOptions::release_eil` off, docs/RELAX.md section 15), new EIL
-/// points still appear, and `relax` hands the simulation back with the
-/// scene's release rule, so dynamics afterwards releases as before.
+/// With `RelaxOptions::keep_eil` an EIL point is never turned real again
+/// while relaxing (docs/RELAX.md section 15), new EIL points still appear,
+/// and `relax` hands the simulation back with the scene's release rule, so
+/// dynamics afterwards releases as before. Without it a point is released.
 #[test]
 fn relaxation_keeps_its_eil_points_and_restores_the_release_rule() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/linen-stitch.knit");
     let fabric = small_fabric(&path, "loose");
     let params = params_for(&fabric, None).unwrap();
     let release = params.assign.release_fraction;
-    let opts = RelaxOptions::default();
-    let mut sim = Simulation::new(fabric.clone(), params.clone(), LinearSolver::direct(), opts.h_initial);
-    knitsim::sim::configure_relax(&mut sim, &opts);
-    let mut seen = vec![false; sim.assignment.eil.len()];
-    for step in 0..8 {
-        sim.step(false, None, &mut |_, _| {}).unwrap();
-        for (s, &e) in seen.iter_mut().zip(&sim.assignment.eil) {
-            assert!(e || !*s, "step {step}: an EIL point was released");
-            *s |= e;
+    // Steps of a relaxation: (points ever EIL, points released).
+    let run = |opts: &RelaxOptions| {
+        let mut sim = Simulation::new(fabric.clone(), params.clone(), LinearSolver::direct(), opts.h_initial);
+        knitsim::sim::configure_relax(&mut sim, opts);
+        let (mut seen, mut released) = (vec![false; sim.assignment.eil.len()], 0);
+        for _ in 0..8 {
+            sim.step(false, None, &mut |_, _| {}).unwrap();
+            for (s, &e) in seen.iter_mut().zip(&sim.assignment.eil) {
+                released += usize::from(*s && !e);
+                *s |= e;
+            }
         }
-    }
-    assert!(seen.iter().any(|&s| s), "no point ever turned EIL");
+        (seen.iter().filter(|&&s| s).count(), released)
+    };
+    let opts = RelaxOptions {
+        keep_eil: true,
+        ..RelaxOptions::default()
+    };
+    let (ever, released) = run(&opts);
+    assert!(
+        ever > 0 && released == 0,
+        "{ever} points turned EIL, {released} released"
+    );
+    assert!(run(&RelaxOptions::default()).1 > 0, "the default releases");
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let short = RelaxOptions { max_steps: 3, ..opts };
     relax(&mut sim, short, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();

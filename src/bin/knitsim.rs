@@ -62,10 +62,10 @@ enum Command {
         /// Plain EoL without EIL nodes (to show why EIL matters).
         #[arg(long)]
         no_eil: bool,
-        /// Let EIL points turn real again between relaxation steps (off by
-        /// default while relaxing; docs/RELAX.md section 15).
+        /// Keep every EIL point EIL until the relaxation ends (no
+        /// releases between steps; docs/RELAX.md section 15).
         #[arg(long)]
-        release_eil: bool,
+        keep_eil: bool,
         /// Static residual tolerance (largest free force / axial stiffness).
         #[arg(long, default_value_t = RelaxOptions::default().tol)]
         tol: f64,
@@ -125,7 +125,7 @@ fn run(cli: Cli) -> Result<()> {
             solver,
             scene,
             no_eil,
-            release_eil,
+            keep_eil,
             tol,
             max_steps,
             contact,
@@ -136,7 +136,7 @@ fn run(cli: Cli) -> Result<()> {
             RelaxOptions {
                 tol,
                 max_steps,
-                release_eil,
+                keep_eil,
                 ..RelaxOptions::default()
             },
             &opts,

@@ -43,11 +43,13 @@
 //! 140 -> 54, 40x40 400 -> 34; linen 12x12, 40x40 and stockinette 20x20
 //! unchanged (100, 120, 80).
 //!
-//! EIL points are not released while relaxing (`RelaxOptions::release_eil`
-//! off): every release is a new discretization whose first iterate is out
-//! of equilibrium, and on the 80x80 linen stitch the releases came in
-//! waves that took half of the seeds to 770 to 830 Newton iterations; with
-//! none, five seeds took 166 to 252 (docs/RELAX.md section 15).
+//! `RelaxOptions::keep_eil` (opt-in) stops EIL points from being released
+//! while relaxing: every release is a new discretization whose first
+//! iterate is out of equilibrium, and on the 80x80 linen stitch the
+//! releases came in waves that took half of the seeds to 770 to 830 Newton
+//! iterations, where five seeds without releases took 166 to 252. It is
+//! not the default because the one 80x80 stockinette run without releases
+//! took 582 iterations against 200 (docs/RELAX.md section 15).
 
 use super::simulation::{SimError, Simulation};
 use crate::solver::newton::IterStats;
@@ -68,14 +70,11 @@ pub struct RelaxOptions {
     /// Newton's relative residual tolerance inside one step; steps need
     /// not be solved tighter than the continuation moves them.
     pub newton_rel_tol: f64,
-    /// Whether an EIL point may turn real again between relaxation steps
-    /// (the EIL-to-EoL re-initialisation, `AssignParams::release_fraction`).
-    /// Off by default: a relaxation wants the equilibrium, not the finest
-    /// discretization on the way there, and every release is a new
-    /// discretization whose first iterate is out of equilibrium
-    /// (docs/RELAX.md section 15). Dynamics (`Simulation::step` outside
-    /// `relax`) keeps releasing.
-    pub release_eil: bool,
+    /// Keep every EIL point EIL until the relaxation ends: no EIL-to-EoL
+    /// re-initialisation between relaxation steps (`relax` sets
+    /// `AssignParams::release_fraction` to infinity and restores it after,
+    /// so dynamics keeps releasing). Opt-in; see the module docs.
+    pub keep_eil: bool,
 }
 
 impl Default for RelaxOptions {
@@ -87,7 +86,7 @@ impl Default for RelaxOptions {
             h_initial: 1e-3,
             h_max: 1e2,
             newton_rel_tol: 1e-6,
-            release_eil: false,
+            keep_eil: false,
         }
     }
 }
@@ -168,7 +167,7 @@ pub fn configure(sim: &mut Simulation, opts: &RelaxOptions) {
     sim.h = opts.h_initial;
     sim.h_min = opts.h_initial * 1e-4;
     sim.h_max = opts.h_max;
-    if !opts.release_eil {
+    if opts.keep_eil {
         // No gap is ever wide enough: `assign_after` keeps every EIL point.
         sim.params.assign.release_fraction = f64::INFINITY;
     }
