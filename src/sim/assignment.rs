@@ -390,7 +390,7 @@ pub(crate) mod tests {
         // Past the release distance: real again.
         q[u2] = 0.5 + 0.08;
         assert_eq!(assign_after(&f, &l, &q, &rs, p, Some(&first)).eil_count(), 0);
-        // An infinite release distance (relaxation's default, `sim::relax`)
+        // An infinite release distance (`RelaxOptions::keep_eil`)
         // keeps it EIL however far it slides from both neighbours.
         let keep = AssignParams {
             release_fraction: f64::INFINITY,
