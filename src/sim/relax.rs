@@ -48,8 +48,9 @@
 //! iterate is out of equilibrium, and on the 80x80 linen stitch the
 //! releases came in waves that took half of the seeds to 770 to 830 Newton
 //! iterations, where five seeds without releases took 166 to 252. It is
-//! not the default because the one 80x80 stockinette run without releases
-//! took 582 iterations against 200 (docs/RELAX.md section 15).
+//! not the default because on the 80x80 stockinette it was no better (two
+//! seeds: 582 and 550 iterations against 200 and 467; docs/RELAX.md
+//! section 15).
 
 use super::simulation::{SimError, Simulation};
 use crate::solver::newton::IterStats;
@@ -154,8 +155,8 @@ pub fn relax(
 }
 
 /// Sets the Newton parameters, pseudo time steps and EIL release rule of
-/// the relaxation schedule on `sim`, without stepping. [`relax`] starts with this; a
-/// diagnostic that calls `Simulation::step` itself (`examples/relax_steps.rs`)
+/// the relaxation schedule on `sim`, without stepping. [`relax`] starts
+/// with this; a diagnostic that calls `Simulation::step` itself (`examples/relax_steps.rs`)
 /// does too, so it follows the same path step for step.
 pub fn configure(sim: &mut Simulation, opts: &RelaxOptions) {
     sim.newton.max_iterations = opts.newton_per_step;
