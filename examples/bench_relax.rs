@@ -50,7 +50,7 @@ use common::{compiled, jitter};
 use knitsim::scene::params_for;
 use knitsim::sim::{relax, RelaxOptions, Simulation};
 use knitsim::solver::linear::{DirectParams, DirectSolver, LinearSolver, Ordering};
-use knitsim::solver::newton::Problem;
+use knitsim::solver::newton::{IterStats, Problem};
 use std::process::Command;
 use std::time::Instant;
 
@@ -348,8 +348,23 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let dofs = sim.q.len();
     let t0 = Instant::now();
-    let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
+    let mut phases = [0.0f64; 3];
+    let mut add_phases = |s: &IterStats, _: usize| {
+        phases[0] += s.assembly_s;
+        phases[1] += s.solve_s;
+        phases[2] += s.line_search_s;
+    };
+    let rep = relax(&mut sim, opts, None, &mut add_phases, &mut |_, _| {})?;
     let secs = t0.elapsed().as_secs_f64();
+    // On stderr, so that `--spread` still reads one row from stdout.
+    eprintln!(
+        "{name} {n}x{n}: assembly {:.2} s, linear solves {:.2} s, line search {:.2} s, \
+         the rest (step set-up, re-assignment) {:.2} s, of {secs:.2} s",
+        phases[0],
+        phases[1],
+        phases[2],
+        secs - phases.iter().sum::<f64>()
+    );
     let energy: f64 = sim.problem(None)?.breakdown(&sim.q).iter().map(|(_, e)| e).sum();
     let extent = extent_mm(&sim.snapshot());
     println!(

@@ -165,6 +165,13 @@ pub struct IterStats {
     pub line_search_trials: usize,
     /// Unknowns held at a bound this iteration.
     pub held: usize,
+    /// Seconds of this iteration in the gradient and Hessian assembly.
+    pub assembly_s: f64,
+    /// Seconds in the linear solve: the factorization (with a symbolic
+    /// analysis when the pattern changed) and its triangular solves, or CG.
+    pub solve_s: f64,
+    /// Seconds in the line search: the step cap and the trial energies.
+    pub line_search_s: f64,
 }
 
 /// Why a Newton solve ended successfully.

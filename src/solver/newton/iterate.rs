@@ -70,7 +70,9 @@ pub fn minimize<P: Problem + ?Sized>(
             status = NewtonStatus::Cancelled;
             break;
         }
+        let assembly_start = Instant::now();
         problem.gradient_hessian(q, &mut w.g, &mut h)?;
+        let assembly_s = assembly_start.elapsed().as_secs_f64();
         for (gi, _) in w.g.iter_mut().zip(&free).filter(|(_, &f)| !f) {
             *gi = 0.0;
         }
@@ -107,6 +109,9 @@ pub fn minimize<P: Problem + ?Sized>(
             linear_iterations: 0,
             line_search_trials: 0,
             held: w.bounds.held.len(),
+            assembly_s,
+            solve_s: 0.0,
+            line_search_s: 0.0,
         };
         let outcome = if rel_residual < params.rel_residual_tol || max_force <= params.max_force_tol {
             Some(NewtonStatus::Converged(Converged::Residual))
@@ -203,7 +208,9 @@ fn step<P: Problem + ?Sized>(
         *r = -gi;
     }
     w.dq.fill(0.0);
+    let solve_start = Instant::now();
     let solved = solver.solve(h, &w.rhs, &mut w.dq, blocks);
+    stats.solve_s = solve_start.elapsed().as_secs_f64();
     if let Ok(rep) = &solved {
         stats.linear_iterations = rep.iterations;
     }
@@ -226,7 +233,7 @@ fn step<P: Problem + ?Sized>(
         // search accepts it, which squares the remaining error for free.
         let done = (stats.damping == 0.0 && stats.decrement < params.decrement_tol)
             .then_some(NewtonStatus::Converged(Converged::Decrement));
-        match line_search(problem, q, params, w, *energy, slope) {
+        match line_search(problem, q, params, w, *energy, slope, stats) {
             LineOutcome::Accepted(s) => {
                 accept(q, w, energy, stats, s, Direction::Newton);
                 return done;
@@ -247,7 +254,7 @@ fn step<P: Problem + ?Sized>(
         *d = -scale * gi;
     }
     let slope = -scale * gnorm * gnorm;
-    match line_search(problem, q, params, w, *energy, slope) {
+    match line_search(problem, q, params, w, *energy, slope, stats) {
         LineOutcome::Accepted(s) => {
             accept(q, w, energy, stats, s, Direction::Gradient);
             None
@@ -263,7 +270,23 @@ enum LineOutcome {
     Rejected,
 }
 
+/// [`search_line`], its seconds added to `stats.line_search_s`.
 fn line_search<P: Problem + ?Sized>(
+    problem: &mut P,
+    q: &[f64],
+    params: &NewtonParams,
+    w: &mut Work,
+    e0: f64,
+    slope: f64,
+    stats: &mut IterStats,
+) -> LineOutcome {
+    let start = Instant::now();
+    let outcome = search_line(problem, q, params, w, e0, slope);
+    stats.line_search_s += start.elapsed().as_secs_f64();
+    outcome
+}
+
+fn search_line<P: Problem + ?Sized>(
     problem: &mut P,
     q: &[f64],
     params: &NewtonParams,

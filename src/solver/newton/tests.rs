@@ -426,3 +426,38 @@ fn every_accepted_iterate_is_reported_in_order() {
     // Each reported state is a new one (a step moved it).
     assert!(path.windows(2).all(|w| w[0] != w[1]));
 }
+
+#[test]
+fn every_iteration_times_its_phases_within_its_own_time() {
+    let (mut p, mut q) = hanging_chain(40);
+    let rep = minimize(
+        &mut p,
+        &mut q,
+        &mut LinearSolver::direct(),
+        &NewtonParams::default(),
+        NewtonHooks::default(),
+    )
+    .unwrap();
+    assert!(rep.converged());
+    let mut previous_end = 0.0;
+    for s in &rep.history {
+        let phases = [s.assembly_s, s.solve_s, s.line_search_s];
+        assert!(phases.iter().all(|t| t.is_finite() && *t >= 0.0), "{phases:?}");
+        // The phases lie inside the iteration: between the previous
+        // iteration's end and this one's.
+        let sum: f64 = phases.iter().sum();
+        assert!(
+            sum <= s.elapsed_s - previous_end + 1e-9,
+            "{sum} > {}",
+            s.elapsed_s - previous_end
+        );
+        previous_end = s.elapsed_s;
+    }
+    // Every iteration assembles; every one that stepped solved and searched.
+    assert!(rep.history.iter().all(|s| s.assembly_s > 0.0));
+    assert!(rep
+        .history
+        .iter()
+        .filter(|s| s.step > 0.0)
+        .all(|s| s.solve_s > 0.0 && s.line_search_s > 0.0));
+}
