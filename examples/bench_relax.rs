@@ -18,7 +18,12 @@
 //! patterns' counts depend on rounding (docs/RELAX.md), so a single count
 //! is one sample of a spread; this prints the spread.
 //!
-//! `--case NAME N [SEED [STOP]]` runs one case; `--spread SIZES SEEDS
+//! `KNITSIM_BENCH_BENDING=split` (or `eigen`) picks the bending stencils'
+//! PSD Hessian (`SimParams::bending_hessian`) for every case run.
+//!
+//! `--case NAME N [SEED [STOP]]` runs one case (with the environment
+//! variable `KNITSIM_BENCH_TRACE` set it prints every Newton iteration and
+//! every step's static residual on stderr); `--spread SIZES SEEDS
 //! [STOP]` passes STOP on. STOP is `AssignParams::stop_fraction` (default
 //! 0: off; docs/RELAX.md section 8 measured 0.05).
 //!
@@ -55,6 +60,11 @@ use std::process::Command;
 use std::time::Instant;
 
 const PATTERNS: [&str; 2] = ["stockinette", "linen-stitch"];
+
+/// Environment variable choosing the bending stencils' PSD Hessian
+/// (`eigen` or `split`, `SimParams::bending_hessian`) for `--case` and the
+/// modes that run it; unset: the default.
+const BENDING_VAR: &str = "KNITSIM_BENCH_BENDING";
 
 fn main() -> anyhow::Result<()> {
     let mut args: Vec<String> = std::env::args().collect();
@@ -345,16 +355,41 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
     let opts = RelaxOptions::default();
     let mut params = params_for(&fabric, None)?;
     params.assign.stop_fraction = stop_fraction;
+    if let Ok(model) = std::env::var(BENDING_VAR) {
+        params.bending_hessian = model.parse().map_err(anyhow::Error::msg)?;
+    }
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let dofs = sim.q.len();
     let t0 = Instant::now();
     let mut phases = [0.0f64; 3];
-    let mut add_phases = |s: &IterStats, _: usize| {
+    // `KNITSIM_BENCH_TRACE=1`: every Newton iteration and step on stderr.
+    let trace = std::env::var_os("KNITSIM_BENCH_TRACE").is_some();
+    let mut add_phases = |s: &IterStats, eil: usize| {
+        if trace {
+            eprintln!(
+                "  it {:2} E {:.6e} |g| {:.3e} step {:.2e} {:?} damping {:.0e} trials {} eil {} | {:.3} {:.3} {:.3} s",
+                s.iteration,
+                s.energy,
+                s.residual,
+                s.step,
+                s.direction,
+                s.damping,
+                s.line_search_trials,
+                eil,
+                s.assembly_s,
+                s.solve_s,
+                s.line_search_s
+            );
+        }
         phases[0] += s.assembly_s;
         phases[1] += s.solve_s;
         phases[2] += s.line_search_s;
     };
-    let rep = relax(&mut sim, opts, None, &mut add_phases, &mut |_, _| {})?;
+    let rep = relax(&mut sim, opts, None, &mut add_phases, &mut |k, r| {
+        if trace {
+            eprintln!("step {k}: static residual {r:.3e}");
+        }
+    })?;
     let secs = t0.elapsed().as_secs_f64();
     // On stderr, so that `--spread` still reads one row from stdout.
     eprintln!(

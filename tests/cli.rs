@@ -275,3 +275,54 @@ fn shape_gap_thins_the_compiled_topology_and_a_negative_gap_is_refused() {
     );
     assert!(!out.exists(), "a refused run wrote {}", out.display());
 }
+
+/// `--bending-hessian split` and the scene key `bending_hessian` pick the
+/// closed-form bending model; the run converges either way, and an
+/// unknown model or scene value is refused before anything is written.
+#[test]
+fn the_bending_hessian_flag_and_scene_key_are_read_and_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let pattern = small_stockinette(dir.path());
+    let out = dir.path().join("out");
+    let out_s = out.to_str().unwrap();
+    let run = knitsim(&["relax", &pattern, "-o", out_s, "--bending-hessian", "split"]);
+    let stdout = text(&run.stdout);
+    assert!(run.status.success(), "{stdout}\n{}", text(&run.stderr));
+    assert!(
+        stdout.lines().last().unwrap_or_default().contains("(converged"),
+        "{stdout}"
+    );
+
+    let scene = dir.path().join("scene.json");
+    std::fs::write(&scene, "{\"bending_hessian\": \"split\"}").unwrap();
+    let run = knitsim(&["relax", &pattern, "-o", out_s, "--scene", scene.to_str().unwrap()]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+
+    let refused = dir.path().join("refused");
+    let run = knitsim(&[
+        "relax",
+        &pattern,
+        "-o",
+        refused.to_str().unwrap(),
+        "--bending-hessian",
+        "exact",
+    ]);
+    assert_eq!(run.status.code(), Some(2), "clap's usage error");
+    assert!(text(&run.stderr).contains("eigen, split"), "{}", text(&run.stderr));
+    std::fs::write(&scene, "{\"bending_hessian\": \"exact\"}").unwrap();
+    let run = knitsim(&[
+        "relax",
+        &pattern,
+        "-o",
+        refused.to_str().unwrap(),
+        "--scene",
+        scene.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+    assert!(
+        text(&run.stderr).contains(&format!("{}:1:", scene.display())),
+        "{}",
+        text(&run.stderr)
+    );
+    assert!(!refused.exists() || std::fs::read_dir(&refused).unwrap().count() == 0);
+}

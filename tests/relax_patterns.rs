@@ -8,6 +8,7 @@
 //! still a contact: its two yarn points share one node whose position is
 //! finite and whose `u` stays strictly inside both yarns (no unravelling).
 
+use knitsim::rod::bending::BendingHessian;
 use knitsim::rod::params::RodParams;
 use knitsim::scene::params_for;
 use knitsim::sim::{relax, RelaxOptions, SimParams, Simulation, YarnRadii};
@@ -134,9 +135,13 @@ fn shipped() -> Vec<std::path::PathBuf> {
 }
 
 fn relax_all(looseness: &str, shape_gap: f64) {
+    relax_all_with(looseness, shape_gap, SimParams::default());
+}
+
+fn relax_all_with(looseness: &str, shape_gap: f64, params: SimParams) {
     let (mut failures, mut unchanged) = (Vec::new(), Vec::new());
     for path in shipped() {
-        match relax_fabric(&path, looseness, shape_gap, SimParams::default()) {
+        match relax_fabric(&path, looseness, shape_gap, params.clone()) {
             Ok((line, _)) if line.ends_with("nothing thinned") => {
                 unchanged.push(path.file_stem().unwrap().to_string_lossy().into_owned())
             }
@@ -184,6 +189,19 @@ fn every_shipped_pattern_relaxes_loose_with_shape_points_thinned() {
 #[test]
 fn every_shipped_pattern_relaxes_tight_with_shape_points_thinned() {
     relax_all("tight", 1.0);
+}
+
+/// The closed-form bending Hessian (`--bending-hessian split`, opt-in;
+/// docs/RELAX.md section 16) changes only Newton's model, not the
+/// energy: every shipped pattern still reaches the default tolerance with
+/// every check above.
+#[test]
+fn every_shipped_pattern_relaxes_with_the_split_bending_hessian() {
+    let params = SimParams {
+        bending_hessian: BendingHessian::Split,
+        ..SimParams::default()
+    };
+    relax_all_with("loose", 0.0, params);
 }
 
 /// The opt-in sliding stops (`AssignParams::stop_fraction`, docs/RELAX.md

@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob};
 use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
+use knitsim::rod::bending::BendingHessian;
 use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions};
 use knitsim::solver::linear::{select, AutoParams};
 use knitsim::topology::CompileOptions;
@@ -76,6 +77,12 @@ enum Command {
         /// unless the scene enables it).
         #[arg(long, value_name = "MODE")]
         contact: Option<ContactModeName>,
+        /// The bending stencils' PSD Hessian for Newton: eigen (the nearest
+        /// PSD matrix, default) or split (closed form: cheaper iterations, a
+        /// deeper relaxation that takes more of them; docs/RELAX.md
+        /// section 16). Overrides the scene's "bending_hessian".
+        #[arg(long, value_name = "MODEL")]
+        bending_hessian: Option<BendingHessian>,
     },
 }
 
@@ -129,10 +136,11 @@ fn run(cli: Cli) -> Result<()> {
             tol,
             max_steps,
             contact,
+            bending_hessian,
         } => relax(
             &input,
             &output,
-            (solver, scene.as_deref(), no_eil, contact),
+            (solver, scene.as_deref(), no_eil, contact, bending_hessian),
             RelaxOptions {
                 tol,
                 max_steps,
@@ -191,12 +199,18 @@ fn export(
 }
 
 /// The relax command's options, as clap parsed them.
-type RelaxFlags<'a> = (SolverChoice, Option<&'a Path>, bool, Option<ContactModeName>);
+type RelaxFlags<'a> = (
+    SolverChoice,
+    Option<&'a Path>,
+    bool,
+    Option<ContactModeName>,
+    Option<BendingHessian>,
+);
 
 fn relax(
     input: &Path,
     out: &Path,
-    (solver, scene, no_eil, contact): RelaxFlags,
+    (solver, scene, no_eil, contact, bending_hessian): RelaxFlags,
     options: RelaxOptions,
     opts: &CompileOptions,
 ) -> Result<()> {
@@ -207,6 +221,9 @@ fn relax(
     let mut params = knitsim::scene::params_for(&fabric, scene)?;
     if no_eil {
         params.assign.enable_eil = false;
+    }
+    if let Some(model) = bending_hessian {
+        params.bending_hessian = model;
     }
     if let Some(mode) = contact {
         params.contact = Some(ContactParams {

@@ -27,6 +27,32 @@ use super::angle::{angle_energy, angle_value, QuadraticAngle};
 use crate::energy::Stencil;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
+/// Which PSD Hessian Newton gets from a bending stencil.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BendingHessian {
+    /// The exact Hessian with its negative eigenvalues clamped (an 8x8
+    /// eigen-decomposition per stencil): the nearest PSD matrix.
+    #[default]
+    Eigen,
+    /// The closed-form model of `bending_psd`: Gauss-Newton part plus the
+    /// positive eigenpairs of the angle's curvature, no eigen-decomposition.
+    /// Stiffer than `Eigen` wherever the two differ; docs/RELAX.md
+    /// section 16 measures what that does to a relaxation.
+    Split,
+}
+
+impl std::str::FromStr for BendingHessian {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "eigen" => Ok(Self::Eigen),
+            "split" => Ok(Self::Split),
+            _ => Err(format!("unknown bending Hessian '{s}' (eigen, split)")),
+        }
+    }
+}
+
 /// Bending stencil on `[x0(3), u0, x1(3), u1, x2(3), u2]` (N = 12).
 #[derive(Clone, Copy, Debug)]
 pub struct Bending {
@@ -34,6 +60,8 @@ pub struct Bending {
     pub kb: f64,
     /// Rest turning angle (rad); 0 for a naturally straight yarn.
     pub rest_angle: f64,
+    /// The PSD Hessian of [`Stencil::derivatives`] with projection on.
+    pub hessian: BendingHessian,
 }
 
 const X0: usize = 0;
@@ -45,11 +73,20 @@ const U2: usize = 11;
 impl Bending {
     /// A naturally straight yarn.
     pub fn new(kb: f64) -> Self {
-        Bending { kb, rest_angle: 0.0 }
+        Self::with_rest_angle(kb, 0.0)
     }
 
     pub fn with_rest_angle(kb: f64, rest_angle: f64) -> Self {
-        Bending { kb, rest_angle }
+        Bending {
+            kb,
+            rest_angle,
+            hessian: BendingHessian::Eigen,
+        }
+    }
+
+    /// The same stencil with another PSD Hessian model.
+    pub fn with_hessian(self, hessian: BendingHessian) -> Self {
+        Bending { hessian, ..self }
     }
 
     fn edges(q: &SVector<f64, 12>) -> (Vector3<f64>, Vector3<f64>, f64) {
@@ -73,24 +110,60 @@ impl Bending {
         if d <= 0.0 {
             return (f64::INFINITY, SVector::zeros(), SMatrix::zeros());
         }
-        // Edge vectors as a linear map of the local vector: (e1, e2) = S q.
-        let mut s = SMatrix::<f64, 6, 12>::zeros();
-        let id = Matrix3::identity();
-        s.fixed_view_mut::<3, 3>(0, X0).copy_from(&(-id));
-        s.fixed_view_mut::<3, 3>(0, X1).copy_from(&id);
-        s.fixed_view_mut::<3, 3>(3, X1).copy_from(&(-id));
-        s.fixed_view_mut::<3, 3>(3, X2).copy_from(&id);
-        let gf = s.transpose() * g6;
+        let s = edge_map();
+        let (value, grad, gf, gd) = value_gradient(&s, f, &g6, d);
         let hf = s.transpose() * h6 * s;
-        let mut gd = SVector::<f64, 12>::zeros();
-        gd[U0] = -1.0;
-        gd[U2] = 1.0;
         let cross = gf * gd.transpose();
-        let value = f / d;
-        let grad = gf / d - gd * (f / (d * d));
         let hess = hf / d - (cross + cross.transpose()) / (d * d) + gd * gd.transpose() * (2.0 * f / (d * d * d));
         (value, grad, hess)
     }
+
+    /// The gradient and a PSD Hessian for Newton. With
+    /// [`BendingHessian::Split`], the closed-form model of `bending_psd`
+    /// where the bend plane is defined; otherwise (and by default) the
+    /// exact Hessian projected by eigen-decomposition in the coordinates
+    /// relative to `(x0, u0)` (bending is unchanged when the three nodes
+    /// translate or the three `u` shift together).
+    fn projected(&self, q: &SVector<f64, 12>) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
+        let (e1, e2, d) = Self::edges(q);
+        if self.hessian == BendingHessian::Split && d > 0.0 {
+            if let Some(h) = super::bending_psd::projected_hessian(self.kb, self.rest_angle, &e1, &e2, d) {
+                let (f, g6, _) = angle_energy(&e1, &e2, &self.profile());
+                return (value_gradient(&edge_map(), f, &g6, d).1, h);
+            }
+        }
+        const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
+        const ANCHOR: [usize; 8] = [0, 1, 2, 3, 0, 1, 2, 3];
+        let (_, g, h) = self.evaluate(q);
+        (g, crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR))
+    }
+}
+
+/// The edge vectors as a linear map of the local vector: `(e1, e2) = S q`.
+fn edge_map() -> SMatrix<f64, 6, 12> {
+    let mut s = SMatrix::<f64, 6, 12>::zeros();
+    let id = Matrix3::identity();
+    s.fixed_view_mut::<3, 3>(0, X0).copy_from(&(-id));
+    s.fixed_view_mut::<3, 3>(0, X1).copy_from(&id);
+    s.fixed_view_mut::<3, 3>(3, X1).copy_from(&(-id));
+    s.fixed_view_mut::<3, 3>(3, X2).copy_from(&id);
+    s
+}
+
+/// `V = f / D` and its gradient from `f(theta)` and its edge gradient
+/// `g6`, with the pieces the Hessian reuses: `S^T g6` and `grad D`.
+fn value_gradient(
+    s: &SMatrix<f64, 6, 12>,
+    f: f64,
+    g6: &SVector<f64, 6>,
+    d: f64,
+) -> (f64, SVector<f64, 12>, SVector<f64, 12>, SVector<f64, 12>) {
+    let gf = s.transpose() * g6;
+    let mut gd = SVector::<f64, 12>::zeros();
+    gd[U0] = -1.0;
+    gd[U2] = 1.0;
+    let grad = gf / d - gd * (f / (d * d));
+    (f / d, grad, gf, gd)
 }
 
 impl Stencil<12> for Bending {
@@ -109,15 +182,11 @@ impl Stencil<12> for Bending {
         self.evaluate(q).2
     }
     fn derivatives(&self, q: &SVector<f64, 12>, project: bool) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
-        let (_, g, h) = self.evaluate(q);
-        if !project {
-            return (g, h);
+        if project {
+            return self.projected(q);
         }
-        // Invariant under translating the three nodes and shifting the three
-        // `u` together: project in (x1, u1, x2, u2) relative to (x0, u0).
-        const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
-        const ANCHOR: [usize; 8] = [0, 1, 2, 3, 0, 1, 2, 3];
-        (g, crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR))
+        let (_, g, h) = self.evaluate(q);
+        (g, h)
     }
 }
 

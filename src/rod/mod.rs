@@ -37,6 +37,7 @@
 
 pub mod angle;
 pub mod bending;
+pub mod bending_psd;
 pub mod damping;
 pub mod eil;
 pub mod friction;

@@ -4,6 +4,7 @@
 //! at all: a scene pays only for what it uses (obstacles, gravity, friction,
 //! inertia in quasi-static relaxation).
 
+use crate::rod::bending::BendingHessian;
 use crate::rod::params::RodParams;
 use crate::scene::Shape;
 use crate::sim::assignment::AssignParams;
@@ -81,6 +82,9 @@ pub struct SimParams {
     /// and free: no normals are tracked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub separation: Option<SeparationParams>,
+    /// The PSD Hessian model of the bending stencils (`"eigen"`, the
+    /// default, or `"split"`; `rod::bending::BendingHessian`).
+    pub bending_hessian: BendingHessian,
 }
 
 impl Default for SimParams {
@@ -95,6 +99,7 @@ impl Default for SimParams {
             contact: None,
             remove_slid_off: true,
             separation: None,
+            bending_hessian: BendingHessian::default(),
         }
     }
 }

@@ -276,7 +276,7 @@ pub fn build_sets(
                 for &pi in w {
                     disc.xu(y, pi, &mut d);
                 }
-                bt.push(Bending::new(rp.kb));
+                bt.push(Bending::new(rp.kb).with_hessian(p.bending_hessian));
                 bd.push(arr::<12>(d));
             }
         }
