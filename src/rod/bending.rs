@@ -126,13 +126,8 @@ impl Bending {
     /// translate or the three `u` shift together).
     fn projected(&self, q: &SVector<f64, 12>) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
         let (e1, e2, d) = Self::edges(q);
-        if d > 0.0 {
-            let (k, rest) = (self.kb, self.rest_angle);
-            let h = match self.hessian {
-                BendingHessian::Split => super::bending_psd::projected_hessian(k, rest, &e1, &e2, d),
-                BendingHessian::Eigen => super::bending_psd::exact_projected_hessian(k, rest, &e1, &e2, d),
-            };
-            if let Some(h) = h {
+        if self.hessian == BendingHessian::Split && d > 0.0 {
+            if let Some(h) = super::bending_psd::projected_hessian(self.kb, self.rest_angle, &e1, &e2, d) {
                 let (f, g6, _) = angle_energy(&e1, &e2, &self.profile());
                 return (value_gradient(&edge_map(), f, &g6, d).1, h);
             }

@@ -46,7 +46,7 @@
 //! straight or folded bend), a zero edge or `D <= 0`, [`split`] returns
 //! `None` and the stencil falls back to the general projection.
 
-use nalgebra::{Matrix5, SMatrix, SVector, SymmetricEigen, Vector3, Vector5};
+use nalgebra::{SMatrix, SVector, Vector3};
 
 /// Below this `sin theta` the frame is not trusted (the general projection runs).
 pub const MIN_SIN: f64 = 1e-6;
@@ -168,95 +168,6 @@ pub fn projected_hessian(
     Some(h)
 }
 
-/// The nearest PSD matrix to the exact bending Hessian, the projection
-/// the default ([`super::bending::BendingHessian::Eigen`]) path computes
-/// with an 8x8 eigen-decomposition, from the closed-form pieces of
-/// [`split`] and one 5x5 eigen-decomposition.
-///
-/// The default projects in the coordinates `(r1, r2, D)` relative to
-/// `(x0, u0)` (`r1 = x1 - x0 = e1`, `r2 = x2 - x0 = e1 + e2`). In an
-/// orthonormal frame `(p, q, n)` of the bend plane the Hessian there is a
-/// 5x5 in-plane block (`p.r1, q.r1, p.r2, q.r2, D`) and a 2x2 out-of-plane
-/// one (`n.r1, n.r2`) that do not couple (the mirror symmetry of the
-/// module docs), and the frame change is orthogonal, so clamping the two
-/// blocks is the same projection. Both blocks are sums of the rank-one
-/// terms of [`split`], mapped from `e` to `r` by `a_r1 = a_e1 - a_e2`,
-/// `a_r2 = a_e2`.
-pub fn exact_projected_hessian(
-    k: f64,
-    rest: f64,
-    e1: &Vector3<f64>,
-    e2: &Vector3<f64>,
-    d: f64,
-) -> Option<SMatrix<f64, 12, 12>> {
-    let (gn, pairs) = split(k, rest, e1, e2, d)?;
-    let l1 = e1.norm();
-    let p = e1 / l1;
-    let n = e1.cross(e2).normalize();
-    let q = n.cross(&p);
-    // A reduced e-space vector in the frame, r coordinates: in-plane
-    // (p.r1, q.r1, p.r2, q.r2, D) and out-of-plane (n.r1, n.r2).
-    let in_frame = |a: &Reduced| {
-        let (a1, a2) = (a.fixed_rows::<3>(0), a.fixed_rows::<3>(3));
-        let r1 = a1 - a2;
-        (
-            Vector5::new(p.dot(&r1), q.dot(&r1), p.dot(&a2), q.dot(&a2), a[6]),
-            (n.dot(&r1), n.dot(&a2)),
-        )
-    };
-    let mut plane = Matrix5::zeros();
-    let (mut oa, mut ob, mut oc) = (0.0, 0.0, 0.0);
-    let (g, _) = in_frame(&gn);
-    plane += g * g.transpose();
-    for (lambda, v) in &pairs {
-        let (y, (s, t)) = in_frame(v);
-        plane += y * y.transpose() * *lambda;
-        oa += lambda * s * s;
-        ob += lambda * s * t;
-        oc += lambda * t * t;
-    }
-    // Back to the 12-vector of a frame vector: r1, r2 in space, then
-    // x0 = -(r1 + r2), x1 = r1, x2 = r2, u0 = -D, u2 = D.
-    let expand_r = |r1: Vector3<f64>, r2: Vector3<f64>, dd: f64| {
-        let mut v = SVector::<f64, 12>::zeros();
-        for i in 0..3 {
-            v[i] = -(r1[i] + r2[i]);
-            v[4 + i] = r1[i];
-            v[8 + i] = r2[i];
-        }
-        v[3] = -dd;
-        v[11] = dd;
-        v
-    };
-    let mut h = SMatrix::<f64, 12, 12>::zeros();
-    for (mu, y) in psd_eigenpairs5(&plane)? {
-        let v = expand_r(p * y[0] + q * y[1], p * y[2] + q * y[3], y[4]) * mu.sqrt();
-        h += v * v.transpose();
-    }
-    for (mu, (s, t)) in eigen2(oa, ob, oc) {
-        if mu > 0.0 {
-            let v = expand_r(n * s, n * t, 0.0) * mu.sqrt();
-            h += v * v.transpose();
-        }
-    }
-    h.iter().all(|x| x.is_finite()).then_some(h)
-}
-
-/// The positive eigenpairs of a symmetric 5x5 (all of it, as one pair per
-/// Cholesky-free column, when it is already PSD up to rounding);
-/// `None` when the eigen-solver does not converge.
-fn psd_eigenpairs5(m: &Matrix5<f64>) -> Option<Vec<(f64, Vector5<f64>)>> {
-    let se = SymmetricEigen::try_new(*m, f64::EPSILON, 500)?;
-    Some(
-        se.eigenvalues
-            .iter()
-            .zip(se.eigenvectors.column_iter())
-            .filter(|(&mu, _)| mu > 0.0)
-            .map(|(&mu, v)| (mu, v.into_owned()))
-            .collect(),
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -353,34 +264,6 @@ mod tests {
             let (ev, _) = sym_eigen(&(h - exact));
             assert!(ev.iter().all(|&e| e >= -1e-10 * scale), "theta {theta}: {ev:?}");
         }
-    }
-
-    #[test]
-    fn the_exact_model_is_the_default_projection() {
-        use crate::energy::psd::project_psd_reduced;
-        let mut rng = Rng::new(22);
-        let mut checked = 0;
-        for i in 0..800 {
-            let theta = ANGLES[i % ANGLES.len()];
-            let (l1, l2, du) = (rng.range(1e-4, 2.0), rng.range(1e-4, 2.0), rng.range(0.3, 2.0));
-            let q = bent(&mut rng, theta, l1, l2, du);
-            let (e1, e2, d) = parts(&q);
-            for b in [Bending::new(2.0), Bending::with_rest_angle(1e-7, 0.7)] {
-                let Some(h) = exact_projected_hessian(b.kb, b.rest_angle, &e1, &e2, d) else {
-                    continue;
-                };
-                let general =
-                    project_psd_reduced(&b.hessian(&q), &[4, 5, 6, 7, 8, 9, 10, 11], &[0, 1, 2, 3, 0, 1, 2, 3]);
-                let err = (h - general).norm();
-                assert!(
-                    err <= 1e-7 * general.norm().max(1e-300),
-                    "theta {theta}: {err:e} of {:e}",
-                    general.norm()
-                );
-                checked += 1;
-            }
-        }
-        assert!(checked >= 1500, "{checked}");
     }
 
     #[test]
