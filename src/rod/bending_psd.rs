@@ -42,6 +42,13 @@
 //! eigenpairs and the Gauss-Newton term, against the stencil's own
 //! (finite-difference checked) Hessian.
 //!
+//! Opt-in (`SimParams::bending_hessian = split`, `knitsim relax
+//! --bending-hessian split`): a different PSD model is a different Newton
+//! path. Measured (docs/RELAX.md section 16), it makes an iteration 20 to
+//! 30% cheaper and relaxations deeper and more repeatable, but float
+//! patterns take two to three times as many iterations to the test, so
+//! the default stays the eigen-decomposition.
+//!
 //! Where the bend plane is undefined (`sin theta` below [`MIN_SIN`], a
 //! straight or folded bend), a zero edge or `D <= 0`, [`split`] returns
 //! `None` and the stencil falls back to the general projection.
