@@ -12,6 +12,8 @@
 //! matrix) on [`knitsim::parallel::threads`] threads, the fastest of 5,
 //! first plain, then projected. The difference of the two columns is what
 //! the projection costs; docs/RELAX.md section 16 has the figures.
+//! `KNITSIM_BENCH_BENDING=split` times the bending stencils with the
+//! closed-form Hessian (`SimParams::bending_hessian`) instead.
 
 #[path = "common/mod.rs"]
 mod common;
@@ -28,6 +30,11 @@ fn main() -> anyhow::Result<()> {
     let mut sim = common::relaxing(name, n, seed)?;
     for _ in 0..steps {
         sim.step(false, None, &mut |_, _| {})?;
+    }
+    // As in `bench_relax`: `KNITSIM_BENCH_BENDING=split` times the
+    // closed-form bending Hessian (the steps before run the default).
+    if let Ok(model) = std::env::var("KNITSIM_BENCH_BENDING") {
+        sim.params.bending_hessian = model.parse().map_err(anyhow::Error::msg)?;
     }
     let problem = sim.problem(Some((sim.h, &sim.q.clone())))?;
     let mut h = problem.hessian_pattern();

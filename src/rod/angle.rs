@@ -75,15 +75,31 @@ impl AngleProfile for QuadraticAngle {
     }
 }
 
-/// The cosine `c` of the angle between `a` and `b`, with its gradient and
-/// Hessian with respect to `(a, b)` (6 coordinates, `a` first).
-pub fn cosine_with_derivatives(a: &Vector3<f64>, b: &Vector3<f64>) -> (f64, SVector<f64, 6>, SMatrix<f64, 6, 6>) {
+/// The cosine of the angle between two vectors and its gradient, with the
+/// normalised vectors the Hessian reuses.
+struct CosineGradient {
+    la: f64,
+    lb: f64,
+    ah: Vector3<f64>,
+    bh: Vector3<f64>,
+    c: f64,
+    g: SVector<f64, 6>,
+}
+
+fn cosine_gradient(a: &Vector3<f64>, b: &Vector3<f64>) -> CosineGradient {
     let (la, lb) = (a.norm(), b.norm());
     let (ah, bh) = (a / la, b / lb);
     let c = ah.dot(&bh);
     let mut g = SVector::<f64, 6>::zeros();
     g.fixed_rows_mut::<3>(0).copy_from(&((bh - ah * c) / la));
     g.fixed_rows_mut::<3>(3).copy_from(&((ah - bh * c) / lb));
+    CosineGradient { la, lb, ah, bh, c, g }
+}
+
+/// The cosine `c` of the angle between `a` and `b`, with its gradient and
+/// Hessian with respect to `(a, b)` (6 coordinates, `a` first).
+pub fn cosine_with_derivatives(a: &Vector3<f64>, b: &Vector3<f64>) -> (f64, SVector<f64, 6>, SMatrix<f64, 6, 6>) {
+    let CosineGradient { la, lb, ah, bh, c, g } = cosine_gradient(a, b);
     let id = Matrix3::identity();
     let (aa, bb, ab) = (ah * ah.transpose(), bh * bh.transpose(), ah * bh.transpose());
     let h_aa = (-ab - ab.transpose() + aa * (3.0 * c) - id * c) / (la * la);
@@ -114,6 +130,18 @@ pub fn angle_energy<P: AngleProfile>(
     let (f, df, d2f) = profile.eval(theta, sin, cos);
     let (_, gc, hc) = cosine_with_derivatives(a, b);
     (f, gc * df, gc * gc.transpose() * d2f + hc * df)
+}
+
+/// The value and gradient of [`angle_energy`] without its Hessian (for a
+/// caller that models the Hessian otherwise): the same floating-point
+/// operations, so the same bits.
+pub fn angle_gradient<P: AngleProfile>(a: &Vector3<f64>, b: &Vector3<f64>, profile: &P) -> (f64, SVector<f64, 6>) {
+    let Some((theta, sin, cos)) = angle_terms(a, b) else {
+        let (f, _, _) = profile.eval(0.0, 0.0, 1.0);
+        return (f, SVector::zeros());
+    };
+    let (f, df, _) = profile.eval(theta, sin, cos);
+    (f, cosine_gradient(a, b).g * df)
 }
 
 /// The value of [`angle_energy`] alone. The line search evaluates energies
@@ -154,6 +182,19 @@ mod tests {
         let series = (1.0 + t2 / 6.0 + 7.0 * t2 * t2 / 360.0, 1.0 / 3.0 + 2.0 * t2 / 15.0);
         assert!((direct.0 - series.0).abs() < 1e-12);
         assert!((direct.1 - series.1).abs() < 1e-8);
+    }
+
+    #[test]
+    fn the_gradient_alone_has_the_bits_of_angle_energy() {
+        let profile = QuadraticAngle { k: 2.0, rest: 0.0 };
+        for (a, b) in [
+            (Vector3::new(1.0, 0.2, -0.3), Vector3::new(0.4, 1.1, 0.2)),
+            (Vector3::new(1.0, 0.0, 0.0), Vector3::new(2.0, 1e-9, 0.0)),
+            (Vector3::zeros(), Vector3::new(0.0, 1.0, 0.0)),
+        ] {
+            let (f, g, _) = angle_energy(&a, &b, &profile);
+            assert_eq!((f, g), angle_gradient(&a, &b, &profile));
+        }
     }
 
     #[test]

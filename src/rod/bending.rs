@@ -23,7 +23,7 @@
 //!
 //! with `grad D` = -1 at `u0`, +1 at `u2`.
 
-use super::angle::{angle_energy, angle_value, QuadraticAngle};
+use super::angle::{angle_energy, angle_gradient, angle_value, QuadraticAngle};
 use crate::energy::Stencil;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -128,7 +128,7 @@ impl Bending {
         let (e1, e2, d) = Self::edges(q);
         if self.hessian == BendingHessian::Split && d > 0.0 {
             if let Some(h) = super::bending_psd::projected_hessian(self.kb, self.rest_angle, &e1, &e2, d) {
-                let (f, g6, _) = angle_energy(&e1, &e2, &self.profile());
+                let (f, g6) = angle_gradient(&e1, &e2, &self.profile());
                 return (value_gradient(&edge_map(), f, &g6, d).1, h);
             }
         }
