@@ -27,6 +27,13 @@
 //!   indefinite but nonsingular systems. Every solve is checked by its
 //!   residual against the matrix actually factored, because a pivot that is
 //!   tiny rather than negative passes LLT and returns garbage.
+//! - **The supernodal LLT on every core** (`tree_llt`): faer computes the
+//!   ordering and the supernodes, and solves with the factor; the numeric
+//!   factorization walks the elimination tree on `parallel::threads()`
+//!   workers with the same operations as faer's sequential kernel, so the
+//!   factor is the same bit for bit. Its input is gathered once per
+//!   refactorization straight into the factor's ordering (`permuted`).
+//!   LDLT and small (simplicial) factors stay with faer.
 //! - **Subnormals flushed to zero** while factoring and solving
 //!   (`subnormals`): the factor of a heavily damped matrix fills with them,
 //!   and x86 computes them in microcode.
@@ -36,6 +43,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
@@ -43,11 +51,14 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
 use lower::LowerPattern;
 pub use ordering::Ordering;
+use permuted::PermutedLower;
 use subnormals::FlushSubnormals;
 
 mod lower;
 mod ordering;
+mod permuted;
 mod subnormals;
+mod tree_llt;
 
 /// Tuning of the fallback chain; see the module docs.
 #[derive(Clone, Copy, Debug)]
@@ -62,7 +73,9 @@ pub struct DirectParams {
     pub ldlt_last_resort: bool,
     /// A solve whose `|A x - b| / |b|` exceeds this counts as a failed factorization.
     pub max_rel_residual: f64,
-    /// Let faer factorize and solve on its rayon pool. Off by default: on
+    /// Let faer solve, and factorize where it does (LDLT, simplicial
+    /// factors), on its rayon pool; the supernodal LLT runs on knitsim's
+    /// own threads (`tree_llt`) either way. Off by default: on
     /// the 2-core machine the sequential supernodal factorization of a
     /// 40x40 linen stitch's Newton matrix (63612 unknowns, 8.7M factor
     /// entries) took 0.25 s against 0.36 s on the pool, and the pool's
@@ -120,6 +133,9 @@ struct Analysis {
     lower: LowerPattern,
     symbolic: SymbolicCholesky<usize>,
     ordering: Ordering,
+    /// For a supernodal factor: the lower triangle in the factor's order
+    /// and the kernel's workspace, both fixed with the pattern (`permuted`).
+    supernodal: Option<(PermutedLower, tree_llt::TreePlan)>,
 }
 
 /// Sparse Cholesky with symbolic reuse; see the module docs.
@@ -210,12 +226,19 @@ impl DirectSolver {
         self.symbolic_count += 1;
         self.lower_values = vec![0.0; lower.row_idx.len()];
         self.factor_values = vec![0.0; symbolic.len_val()];
+        let supernodal = match (symbolic.raw(), symbolic.perm()) {
+            (SymbolicCholeskyRaw::Supernodal(sn), Some(perm)) => {
+                Some((PermutedLower::new(&lower, perm.arrays().1), tree_llt::TreePlan::new(sn)))
+            }
+            _ => None,
+        };
         self.analysis = Some(Box::new(Analysis {
             row_ptr: a.row_ptr.clone(),
             col_idx: a.col_idx.clone(),
             lower,
             symbolic,
             ordering,
+            supernodal,
         }));
         Ok(true)
     }
@@ -233,19 +256,37 @@ impl DirectSolver {
             factorize_symbolic_cholesky(sym, Side::Lower, ordering, Default::default())
                 .map_err(|e| DirectError::Symbolic(format!("{e:?}")))
         };
-        let grouped = match self.params.ordering {
-            Some(Ordering::Scalar) => None,
-            _ => ordering::grouped_amd(col_ptr, row_idx, &self.groups),
+        let grouped_analysis = || {
+            let grouped = match self.params.ordering {
+                Some(Ordering::Scalar) => None,
+                _ => ordering::grouped_amd(col_ptr, row_idx, &self.groups),
+            };
+            // A grouped analysis that fails only leaves the scalar one.
+            grouped.and_then(|(fwd, inv)| analyse(SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n))).ok())
         };
-        // A grouped analysis that fails only leaves the scalar one.
-        let grouped =
-            grouped.and_then(|(fwd, inv)| analyse(SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, n))).ok());
         if self.params.ordering == Some(Ordering::Grouped) {
-            if let Some(g) = grouped {
+            if let Some(g) = grouped_analysis() {
                 return Ok((g, Ordering::Grouped));
             }
         }
-        let scalar = analyse(SymmetricOrdering::Amd)?;
+        // Under the default rule both analyses run, and on two or more
+        // threads side by side (each is sequential; the result is the same).
+        let scalar_analysis = || analyse(SymmetricOrdering::Amd);
+        let (grouped, scalar) = if self.params.ordering.is_none() && crate::parallel::threads() > 1 {
+            std::thread::scope(|scope| {
+                let scalar = scope.spawn(scalar_analysis);
+                let grouped = grouped_analysis();
+                (grouped, scalar.join().expect("symbolic analysis panicked"))
+            })
+        } else {
+            let grouped = if self.params.ordering.is_none() {
+                grouped_analysis()
+            } else {
+                None
+            };
+            (grouped, scalar_analysis())
+        };
+        let scalar = scalar?;
         Ok(match grouped {
             Some(g) if g.len_val() < scalar.len_val() => (g, Ordering::Grouped),
             _ => (scalar, Ordering::Scalar),
@@ -320,6 +361,27 @@ impl DirectSolver {
     fn try_factor(&mut self, a: &CsrMatrix, kind: FactorKind) -> bool {
         let Some(an) = &self.analysis else { return false };
         let _flush = FlushSubnormals::new();
+        if kind != FactorKind::Ldlt {
+            if let (SymbolicCholeskyRaw::Supernodal(sn), Some((permuted, plan))) = (an.symbolic.raw(), &an.supernodal) {
+                let shift = match kind {
+                    FactorKind::ShiftedLlt { shift } => shift,
+                    _ => 0.0,
+                };
+                permuted.gather(&a.values, &mut self.lower_values);
+                for &d in permuted.diag.iter().flatten() {
+                    self.lower_values[d] += shift;
+                }
+                let n = a.n;
+                let sym = SymbolicSparseColMatRef::new_checked(n, n, &permuted.col_ptr, None, &permuted.row_idx);
+                let mat = SparseColMatRef::new(sym, &self.lower_values);
+                // No pass over the factor for non-finite entries: a NaN or
+                // infinity in it reaches the residual probe's solution, and
+                // the probe fails on a non-finite residual (a scan of the 8.7M
+                // entries of a 40x40 linen stitch's factor was 2.7% of a
+                // refactorization's time).
+                return tree_llt::factorize(sn, plan, mat, &mut self.factor_values, crate::parallel::threads()).is_ok();
+            }
+        }
         for (dst, &src) in self.lower_values.iter_mut().zip(&an.lower.source) {
             *dst = a.values[src];
         }
@@ -373,7 +435,7 @@ impl DirectSolver {
                     .is_ok()
             }
         };
-        ok && self.factor_values.iter().all(|v| v.is_finite())
+        ok
     }
 
     /// Solves with a fixed probe right-hand side and checks the residual, to
