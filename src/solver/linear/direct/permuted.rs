@@ -30,32 +30,44 @@ impl PermutedLower {
     /// permutation whose inverse is `perm_inv` (`new = perm_inv[old]`).
     pub fn new(lower: &LowerPattern, perm_inv: &[usize]) -> Self {
         let n = lower.col_ptr.len() - 1;
-        // (new column, new row, CSR slot) of every kept entry, sorted.
-        let mut entries: Vec<(usize, usize, usize)> = Vec::with_capacity(lower.row_idx.len());
+        // Each kept entry's (new column, new row): the smaller new index is
+        // the column. A counting sort by column, then each (short) column
+        // sorted by row: a comparison sort of all 1.5M entries of a 40x40
+        // linen stitch took 20 ms per relaxation step.
+        let new_place = |j: usize, k: usize| {
+            let (ni, nj) = (perm_inv[lower.row_idx[k]], perm_inv[j]);
+            (ni.min(nj), ni.max(nj))
+        };
+        let mut col_ptr = vec![0; n + 1];
         for j in 0..n {
             for k in lower.col_ptr[j]..lower.col_ptr[j + 1] {
-                let (ni, nj) = (perm_inv[lower.row_idx[k]], perm_inv[j]);
-                entries.push((ni.min(nj), ni.max(nj), lower.source[k]));
+                col_ptr[new_place(j, k).0 + 1] += 1;
             }
-        }
-        entries.sort_unstable();
-        let mut col_ptr = vec![0; n + 1];
-        for &(c, _, _) in &entries {
-            col_ptr[c + 1] += 1;
         }
         for c in 0..n {
             col_ptr[c + 1] += col_ptr[c];
         }
+        let mut next = col_ptr.clone();
+        let mut entries = vec![(0usize, 0usize); lower.row_idx.len()];
+        for j in 0..n {
+            for k in lower.col_ptr[j]..lower.col_ptr[j + 1] {
+                let (c, r) = new_place(j, k);
+                entries[next[c]] = (r, lower.source[k]);
+                next[c] += 1;
+            }
+        }
         let mut diag = vec![None; n];
-        for (k, &(c, r, _)) in entries.iter().enumerate() {
-            if c == r {
-                diag[c] = Some(k);
+        for c in 0..n {
+            let column = &mut entries[col_ptr[c]..col_ptr[c + 1]];
+            column.sort_unstable();
+            if let Some(k) = column.iter().position(|&(r, _)| r == c) {
+                diag[c] = Some(col_ptr[c] + k);
             }
         }
         PermutedLower {
             col_ptr,
-            row_idx: entries.iter().map(|e| e.1).collect(),
-            source: entries.iter().map(|e| e.2).collect(),
+            row_idx: entries.iter().map(|e| e.0).collect(),
+            source: entries.iter().map(|e| e.1).collect(),
             diag,
         }
     }
