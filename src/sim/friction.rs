@@ -44,17 +44,31 @@ pub fn coulomb_limits(
     }
     let disc = Discretization::new(f, l, a);
     let (real, rank) = (&disc.real, &disc.real_rank);
-    for c in &f.contacts {
-        for (me, other) in [(c.front, c.back), (c.back, c.front)] {
-            let fn_ = if a.is_eil(l, me) {
-                let kc = p.rod.contact_stiffness(rest_seg[me.yarn]);
-                eil_normal_force(f, l, a, q, kc, me, other)
-            } else {
-                real_contact_force(f, l, q, p, &real[me.yarn], rank[l.point(me)], me).map(|(f, t)| across(f, t))
-            };
-            limits[l.point(me)] = p.rod.mu.abs() * fn_.unwrap_or(0.0);
-        }
-    }
+    let limit = |me: PointRef, other: PointRef| {
+        let fn_ = if a.is_eil(l, me) {
+            let kc = p.rod.contact_stiffness(rest_seg[me.yarn]);
+            eil_normal_force(f, l, a, q, kc, me, other)
+        } else {
+            real_contact_force(f, l, q, p, &real[me.yarn], rank[l.point(me)], me).map(|(f, t)| across(f, t))
+        };
+        (l.point(me), p.rod.mu.abs() * fn_.unwrap_or(0.0))
+    };
+    // Each contact on its own (12 ms per relaxation step of a 40x40 linen
+    // stitch on one thread), written in contact order as before.
+    crate::parallel::ordered_map(
+        crate::parallel::threads(),
+        256,
+        f.contacts.len(),
+        |k| {
+            let c = &f.contacts[k];
+            [limit(c.front, c.back), limit(c.back, c.front)]
+        },
+        |_, pairs| {
+            for &(point, value) in pairs.iter().flatten() {
+                limits[point] = value;
+            }
+        },
+    );
     limits
 }
 

@@ -63,8 +63,9 @@ pub enum AssemblyError {
     OutOfRange { set: String, index: usize, n: usize },
 }
 
-/// A type-erased stencil set, as the Newton problem holds it.
-pub trait AnyStencilSet {
+/// A type-erased stencil set, as the Newton problem holds it. `Send` so
+/// that sets can be bound on several threads ([`bind_all`]).
+pub trait AnyStencilSet: Send + Sync {
     /// Name for error messages and timing reports.
     fn name(&self) -> &str;
     fn len(&self) -> usize;
@@ -126,7 +127,7 @@ impl<S: Stencil<N>, const N: usize> StencilSet<S, N> {
     }
 }
 
-impl<S: Stencil<N> + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
+impl<S: Stencil<N> + Send + Sync, const N: usize> AnyStencilSet for StencilSet<S, N> {
     fn name(&self) -> &str {
         &self.name
     }
@@ -262,21 +263,43 @@ pub fn hessian_pattern(n: usize, sets: &[Box<dyn AnyStencilSet>]) -> CsrMatrix {
             }
         }
     }
+    // Each row sorted and its duplicates dropped within its own range (the
+    // rows' halves on two threads when there are two), then the rows
+    // packed together in order.
+    let unique_in_rows = |rows: std::ops::Range<usize>, cols: &mut [u32], offset: usize| -> Vec<usize> {
+        rows.map(|r| {
+            let row = &mut cols[start[r] - offset..start[r + 1] - offset];
+            row.sort_unstable();
+            let mut kept = 0;
+            for k in 0..row.len() {
+                if kept == 0 || row[k] != row[kept - 1] {
+                    row[kept] = row[k];
+                    kept += 1;
+                }
+            }
+            kept
+        })
+        .collect()
+    };
+    let mid = n / 2;
+    let unique: Vec<usize> = if crate::parallel::threads() > 1 && n > 1 {
+        let (low, high) = cols.split_at_mut(start[mid]);
+        let (mut a, b) = std::thread::scope(|scope| {
+            let upper = scope.spawn(|| unique_in_rows(mid..n, high, start[mid]));
+            let lower = unique_in_rows(0..mid, low, 0);
+            (lower, upper.join().expect("pattern thread panicked"))
+        });
+        a.extend(b);
+        a
+    } else {
+        unique_in_rows(0..n, &mut cols, 0)
+    };
     let mut row_ptr = Vec::with_capacity(n + 1);
     row_ptr.push(0);
     let mut len = 0;
-    for r in 0..n {
-        let (a, b) = (start[r], start[r + 1]);
-        cols[a..b].sort_unstable();
-        let mut last = None;
-        for k in a..b {
-            let c = cols[k];
-            if last != Some(c) {
-                cols[len] = c;
-                len += 1;
-                last = Some(c);
-            }
-        }
+    for (r, &kept) in unique.iter().enumerate() {
+        cols.copy_within(start[r]..start[r] + kept, len);
+        len += kept;
         row_ptr.push(len);
     }
     cols.truncate(len);
@@ -291,8 +314,44 @@ pub fn hessian_pattern(n: usize, sets: &[Box<dyn AnyStencilSet>]) -> CsrMatrix {
 }
 
 /// Binds every set to `h` (after [`hessian_pattern`] or any pattern change).
+///
+/// The sets are independent, so on two or more threads each is bound by
+/// whichever thread is free, largest first (11 to 33 ms per relaxation
+/// step of a 40x40 linen stitch on one thread). The first failing set in
+/// `sets` order is the error reported, as on one thread.
 pub fn bind_all(sets: &mut [Box<dyn AnyStencilSet>], h: &CsrMatrix) -> Result<(), AssemblyError> {
-    sets.iter_mut().try_for_each(|s| s.bind(h))
+    let workers = crate::parallel::threads().min(sets.len());
+    if workers <= 1 {
+        return sets.iter_mut().try_for_each(|s| s.bind(h));
+    }
+    let mut queue: Vec<(usize, &mut Box<dyn AnyStencilSet>)> = sets.iter_mut().enumerate().collect();
+    // Popped from the back: largest (by Hessian entries) last in the list.
+    queue.sort_by_key(|(_, s)| {
+        let (width, maps) = s.dof_maps();
+        maps.len() * width
+    });
+    let queue = std::sync::Mutex::new(queue);
+    let errors = std::sync::Mutex::new(Vec::new());
+    let work = || {
+        while let Some((i, set)) = queue.lock().ok().and_then(|mut q| q.pop()) {
+            if let Err(e) = set.bind(h) {
+                if let Ok(mut errors) = errors.lock() {
+                    errors.push((i, e));
+                }
+            }
+        }
+    };
+    std::thread::scope(|scope| {
+        for _ in 1..workers {
+            scope.spawn(work);
+        }
+        work();
+    });
+    let errors = errors.into_inner().unwrap_or_else(|e| e.into_inner());
+    match errors.into_iter().min_by_key(|(i, _)| *i) {
+        Some((_, e)) => Err(e),
+        None => Ok(()),
+    }
 }
 
 /// Total energy of all sets at `q`.
