@@ -113,6 +113,33 @@ fn unbound_and_bad_maps_are_errors() {
     assert!(matches!(springs.bind(&small), Err(AssemblyError::MissingEntry { .. })));
 }
 
+/// With several sets failing, `bind_all` reports the first in order, as a
+/// loop would, however its threads happen to take them; the rest bind.
+#[test]
+fn bind_all_reports_the_first_failing_set_in_order() {
+    let small = CsrMatrix::from_pattern(12, (0..12).map(|i| (i, i)));
+    let spring = |name: &str| -> Box<dyn AnyStencilSet> {
+        Box::new(StencilSet::new(
+            name,
+            vec![Spring { k: 1.0, rest: 1.0 }],
+            vec![[0, 1, 2, 3, 4, 5]],
+        ))
+    };
+    // A large set that binds, then two that do not.
+    let many: Vec<[u32; 3]> = (0..12).map(|i| [i, i, i]).collect();
+    let fine: Box<dyn AnyStencilSet> = Box::new(StencilSet::new(
+        "fine",
+        (0..12).map(|_| Gravity { mg: 1.0 }).collect(),
+        many,
+    ));
+    let mut sets = vec![fine, spring("first"), spring("second")];
+    match bind_all(&mut sets, &small) {
+        Err(AssemblyError::MissingEntry { set, .. }) => assert_eq!(set, "first"),
+        other => panic!("expected the first set's missing entry, got {other:?}"),
+    }
+    assert!(bind_all(&mut sets[..1], &small).is_ok());
+}
+
 /// Parallel evaluation hands results back in stencil order, whatever the
 /// thread count and however the blocks fall (sizes around the block edges;
 /// `ordered_map`'s own tests cover uneven work and panics).
