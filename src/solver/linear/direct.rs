@@ -379,7 +379,9 @@ impl DirectSolver {
                 // the probe fails on a non-finite residual (a scan of the 8.7M
                 // entries of a 40x40 linen stitch's factor was 2.7% of a
                 // refactorization's time).
-                return tree_llt::factorize(sn, plan, mat, &mut self.factor_values, crate::parallel::threads()).is_ok();
+                let ok =
+                    tree_llt::factorize(sn, plan, mat, &mut self.factor_values, crate::parallel::threads()).is_ok();
+                return ok;
             }
         }
         for (dst, &src) in self.lower_values.iter_mut().zip(&an.lower.source) {
