@@ -416,6 +416,27 @@ mod tests {
         }
     }
 
+    /// How many entries of `ours` differ from `theirs`: in any bit where
+    /// faer's sparse kernel is the x86 AVX2/FMA one whose blocking the tree
+    /// kernel follows; elsewhere by more than 1e-12 relative.
+    fn differing(theirs: &[f64], ours: &[f64]) -> usize {
+        #[cfg(target_arch = "x86_64")]
+        let exact = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
+        #[cfg(not(target_arch = "x86_64"))]
+        let exact = false;
+        theirs
+            .iter()
+            .zip(ours)
+            .filter(|(t, o)| {
+                if exact {
+                    t.to_bits() != o.to_bits()
+                } else {
+                    (*t - *o).abs() > 1e-12 * t.abs().max(f64::MIN_POSITIVE)
+                }
+            })
+            .count()
+    }
+
     /// faer's own supernodal factor of `a` and ours on `workers` threads,
     /// and the most columns of any update.
     fn both_factors(a: &CsrMatrix, workers: usize) -> (Vec<f64>, Result<Vec<f64>, usize>, usize) {
