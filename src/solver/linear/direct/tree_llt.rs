@@ -402,11 +402,7 @@ mod tests {
             let (theirs, ours, deepest) = both_factors(&a, workers);
             assert!(deepest > DEPTH_CHUNK, "deepest update {deepest} columns");
             let ours = ours.expect("SPD matrix");
-            let differ = theirs
-                .iter()
-                .zip(&ours)
-                .filter(|(t, o)| t.to_bits() != o.to_bits())
-                .count();
+            let differ = differing(&theirs, &ours);
             assert_eq!(
                 differ,
                 0,
@@ -480,11 +476,7 @@ mod tests {
         for workers in [1, 2, 3] {
             let (theirs, ours, _) = both_factors(&a, workers);
             let ours = ours.expect("SPD matrix");
-            let differ = theirs
-                .iter()
-                .zip(&ours)
-                .filter(|(t, o)| t.to_bits() != o.to_bits())
-                .count();
+            let differ = differing(&theirs, &ours);
             assert_eq!(
                 differ,
                 0,
