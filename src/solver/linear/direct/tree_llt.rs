@@ -399,17 +399,24 @@ mod tests {
         // Without the blocking, 4795 of the 1.78M entries differed.
         let a = two_cliques(1100, 700);
         for workers in [1, 2] {
-            let (theirs, ours, deepest) = both_factors(&a, workers);
+            let deepest = assert_faers_factor(&a, workers);
             assert!(deepest > DEPTH_CHUNK, "deepest update {deepest} columns");
-            let ours = ours.expect("SPD matrix");
-            let differ = differing(&theirs, &ours);
-            assert_eq!(
-                differ,
-                0,
-                "{workers} workers: {differ} of {} entries differ",
-                ours.len()
-            );
         }
+    }
+
+    /// Asserts that our factor of the SPD matrix `a` on `workers` threads
+    /// is faer's ([`differing`]); returns the deepest update's columns.
+    fn assert_faers_factor(a: &CsrMatrix, workers: usize) -> usize {
+        let (theirs, ours, deepest) = both_factors(a, workers);
+        let ours = ours.expect("SPD matrix");
+        let differ = differing(&theirs, &ours);
+        assert_eq!(
+            differ,
+            0,
+            "{workers} workers: {differ} of {} entries differ",
+            ours.len()
+        );
+        deepest
     }
 
     /// How many entries of `ours` differ from `theirs`: in any bit where
@@ -474,15 +481,7 @@ mod tests {
     fn the_tree_factor_is_faers_supernodal_factor_bit_for_bit_on_any_thread_count() {
         let a = grid(12, 0.0);
         for workers in [1, 2, 3] {
-            let (theirs, ours, _) = both_factors(&a, workers);
-            let ours = ours.expect("SPD matrix");
-            let differ = differing(&theirs, &ours);
-            assert_eq!(
-                differ,
-                0,
-                "{workers} workers: {differ} of {} entries differ",
-                ours.len()
-            );
+            assert_faers_factor(&a, workers);
         }
     }
 
