@@ -133,8 +133,9 @@ struct Analysis {
     lower: LowerPattern,
     symbolic: SymbolicCholesky<usize>,
     ordering: Ordering,
-    /// For a supernodal factor: the lower triangle in the factor's order
-    /// and the kernel's workspace, both fixed with the pattern (`permuted`).
+    /// For a supernodal factor: where each entry of the lower triangle goes
+    /// in the factor's order (`permuted`) and the elimination tree's
+    /// schedule (`tree_llt`), both fixed with the pattern.
     supernodal: Option<(PermutedLower, tree_llt::TreePlan)>,
 }
 
@@ -363,13 +364,11 @@ impl DirectSolver {
         let _flush = FlushSubnormals::new();
         if kind != FactorKind::Ldlt {
             if let (SymbolicCholeskyRaw::Supernodal(sn), Some((permuted, plan))) = (an.symbolic.raw(), &an.supernodal) {
-                let shift = match kind {
-                    FactorKind::ShiftedLlt { shift } => shift,
-                    _ => 0.0,
-                };
                 permuted.gather(&a.values, &mut self.lower_values);
-                for &d in permuted.diag.iter().flatten() {
-                    self.lower_values[d] += shift;
+                if let FactorKind::ShiftedLlt { shift } = kind {
+                    for &d in permuted.diag.iter().flatten() {
+                        self.lower_values[d] += shift;
+                    }
                 }
                 let n = a.n;
                 let sym = SymbolicSparseColMatRef::new_checked(n, n, &permuted.col_ptr, None, &permuted.row_idx);
