@@ -60,8 +60,9 @@ impl PermutedLower {
         for c in 0..n {
             let column = &mut entries[col_ptr[c]..col_ptr[c + 1]];
             column.sort_unstable();
-            if let Some(k) = column.iter().position(|&(r, _)| r == c) {
-                diag[c] = Some(col_ptr[c] + k);
+            // Rows are at least the column, so a diagonal sorts first.
+            if column.first().is_some_and(|&(r, _)| r == c) {
+                diag[c] = Some(col_ptr[c]);
             }
         }
         PermutedLower {

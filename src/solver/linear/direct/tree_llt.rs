@@ -48,6 +48,11 @@ pub(super) struct TreePlan {
     max_width: usize,
     max_rows: usize,
     max_product: usize,
+    /// Scratch of earlier factorizations, kept with the pattern that sized
+    /// it: allocating and filling it per call (a row map of every unknown
+    /// and the largest update product, per worker) is work a
+    /// refactorization need not repeat.
+    scratch: Mutex<Vec<Scratch>>,
 }
 
 impl TreePlan {
@@ -99,6 +104,28 @@ impl TreePlan {
             max_width,
             max_rows: (0..ns).map(|s| sn.supernode(s).pattern().len()).max().unwrap_or(0),
             max_product,
+            scratch: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// A worker's scratch: one kept from an earlier call, or a new one.
+    fn take_scratch(&self, n: usize) -> Scratch {
+        let kept = self.scratch.lock().ok().and_then(|mut pool| pool.pop());
+        kept.unwrap_or_else(|| Scratch {
+            local: vec![usize::MAX; n],
+            target: vec![0; self.max_rows],
+            product: vec![0.0; self.max_product],
+            chol: MemBuffer::new(cholesky_in_place_scratch::<f64>(
+                self.max_width,
+                Par::Seq,
+                Default::default(),
+            )),
+        })
+    }
+
+    fn keep_scratch(&self, scratch: Scratch) {
+        if let Ok(mut pool) = self.scratch.lock() {
+            pool.push(scratch);
         }
     }
 }
@@ -146,7 +173,7 @@ pub(super) fn factorize(
     let leaves = Mutex::new((0..ns).rev().filter(|&s| plan.children[s] == 0).collect::<Vec<_>>());
     let failed = Mutex::new(None::<usize>);
     let stop = AtomicBool::new(false);
-    let work = |scratch: &mut Scratch| {
+    let climb = |scratch: &mut Scratch| {
         while let Some(mut s) = leaves.lock().ok().and_then(|mut l| l.pop()) {
             loop {
                 if stop.load(Ordering::Relaxed) {
@@ -176,18 +203,16 @@ pub(super) fn factorize(
             }
         }
     };
-    let new_scratch = || Scratch {
-        local: vec![usize::MAX; sn.nrows()],
-        target: vec![0; plan.max_rows],
-        product: vec![0.0; plan.max_product],
-        chol: MemBuffer::new(cholesky_in_place_scratch::<f64>(
-            plan.max_width,
-            Par::Seq,
-            Default::default(),
-        )),
+    let work = || {
+        let mut scratch = plan.take_scratch(sn.nrows());
+        climb(&mut scratch);
+        // After a failure a row map may hold a supernode's entries: drop it.
+        if !stop.load(Ordering::Relaxed) {
+            plan.keep_scratch(scratch);
+        }
     };
     if workers <= 1 {
-        work(&mut new_scratch());
+        work();
     } else {
         std::thread::scope(|scope| {
             for _ in 1..workers {
@@ -195,10 +220,10 @@ pub(super) fn factorize(
                     // As on the calling thread (`DirectSolver::try_factor`):
                     // the same bits whichever thread factors a supernode.
                     let _flush = super::subnormals::FlushSubnormals::new();
-                    work(&mut new_scratch())
+                    work()
                 });
             }
-            work(&mut new_scratch());
+            work();
         });
     }
     match failed.into_inner().unwrap_or_else(|e| e.into_inner()) {
