@@ -8,6 +8,7 @@
 
 pub mod fd;
 pub mod psd;
+pub mod symmetric_qr;
 
 use nalgebra::{SMatrix, SVector};
 
@@ -24,5 +25,23 @@ pub trait Stencil<const N: usize> {
     fn derivatives(&self, x: &SVector<f64, N>, project: bool) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
         let h = self.hessian(x);
         (self.gradient(x), if project { psd::project_psd(&h) } else { h })
+    }
+
+    /// [`derivatives`](Self::derivatives) of two stencils of this kind,
+    /// each result bit for bit its own call's. Assembly evaluates stencils
+    /// in pairs through this, so a stencil whose projection is a
+    /// latency-bound eigen-decomposition can interleave the two
+    /// ([`psd::project_psd_pair`]); the default is two calls.
+    fn derivatives_pair(
+        a: &Self,
+        xa: &SVector<f64, N>,
+        b: &Self,
+        xb: &SVector<f64, N>,
+        project: bool,
+    ) -> [(SVector<f64, N>, SMatrix<f64, N, N>); 2]
+    where
+        Self: Sized,
+    {
+        [a.derivatives(xa, project), b.derivatives(xb, project)]
     }
 }

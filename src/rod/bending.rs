@@ -64,6 +64,11 @@ pub struct Bending {
     pub hessian: BendingHessian,
 }
 
+/// Bending reads its local vector only through differences from `(x0, u0)`:
+/// its Hessian is projected in those coordinates (`project_psd_reduced`).
+const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
+const ANCHOR: [usize; 8] = [0, 1, 2, 3, 0, 1, 2, 3];
+
 const X0: usize = 0;
 const U0: usize = 3;
 const X1: usize = 4;
@@ -132,8 +137,6 @@ impl Bending {
                 return (value_gradient(&edge_map(), f, &g6, d).1, h);
             }
         }
-        const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
-        const ANCHOR: [usize; 8] = [0, 1, 2, 3, 0, 1, 2, 3];
         let (_, g, h) = self.evaluate(q);
         (g, crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR))
     }
@@ -188,6 +191,22 @@ impl Stencil<12> for Bending {
         let (_, g, h) = self.evaluate(q);
         (g, h)
     }
+    /// Two eigen-projected bends: their 8x8 eigen-decompositions run
+    /// interleaved, the same bits as one after the other.
+    fn derivatives_pair(
+        a: &Self,
+        xa: &SVector<f64, 12>,
+        b: &Self,
+        xb: &SVector<f64, 12>,
+        project: bool,
+    ) -> [(SVector<f64, 12>, SMatrix<f64, 12, 12>); 2] {
+        if !project || a.hessian == BendingHessian::Split || b.hessian == BendingHessian::Split {
+            return [a.derivatives(xa, project), b.derivatives(xb, project)];
+        }
+        let ((_, ga, ha), (_, gb, hb)) = (a.evaluate(xa), b.evaluate(xb));
+        let [pa, pb] = crate::energy::psd::project_psd_reduced_pair(&ha, &hb, &KEPT, &ANCHOR);
+        [(ga, pa), (gb, pb)]
+    }
 }
 
 #[cfg(test)]
@@ -215,6 +234,24 @@ mod tests {
         let x2 = x1 + (t * theta.cos() + n * theta.sin()) * l2;
         let u0 = rng.range(-1.0, 1.0);
         local([x0, x1, x2], [u0, u0 + l1, u0 + l1 + l2])
+    }
+
+    #[test]
+    fn paired_derivatives_are_two_single_ones_bit_for_bit() {
+        let mut rng = Rng::new(21);
+        let mut prev = (Bending::new(1.0), bent(&mut rng, 0.5, 1.0, 1.0));
+        // Straight, ordinary and folded bends, with and without a rest angle.
+        for theta in [1e-9, 1e-4, 0.3, 1.0, 2.0, PI - 1e-4, PI - 1e-9] {
+            for rest in [0.0, 0.4] {
+                let (l1, l2) = (rng.range(0.3, 2.0), rng.range(1e-6, 2.0));
+                let next = (Bending::with_rest_angle(2.0, rest), bent(&mut rng, theta, l1, l2));
+                crate::energy::fd::assert_pair_is_two_singles(&prev.0, &prev.1, &next.0, &next.1);
+                prev = next;
+            }
+        }
+        // The closed-form model (not interleaved) pairs up the same way.
+        let split = Bending::new(1.0).with_hessian(BendingHessian::Split);
+        crate::energy::fd::assert_pair_is_two_singles(&split, &prev.1, &prev.0, &bent(&mut rng, 1.0, 1.0, 1.0));
     }
 
     #[test]

@@ -204,9 +204,16 @@ impl<S: Stencil<N> + Send + Sync, const N: usize> AnyStencilSet for StencilSet<S
         if !self.is_bound_to(h) {
             return Err(AssemblyError::Unbound { set: self.name.clone() });
         }
-        let derivatives = |k: usize| self.stencils[k].derivatives(&Self::gather(q, &self.dofs[k]), project_psd);
-        let scatter = |start: usize, block: &[(SVector<f64, N>, SMatrix<f64, N, N>)]| {
-            for (k, (g, hl)) in (start..).zip(block) {
+        // Evaluated in pairs (`Stencil::derivatives_pair`); an odd last
+        // stencil is paired with itself and its twin dropped.
+        let n = self.stencils.len();
+        let pair = |p: usize| {
+            let (a, b) = (2 * p, (2 * p + 1).min(n - 1));
+            let (xa, xb) = (Self::gather(q, &self.dofs[a]), Self::gather(q, &self.dofs[b]));
+            S::derivatives_pair(&self.stencils[a], &xa, &self.stencils[b], &xb, project_psd)
+        };
+        let scatter = |start: usize, block: &[[(SVector<f64, N>, SMatrix<f64, N, N>); 2]]| {
+            for (k, (g, hl)) in (2 * start..n).zip(block.iter().flatten()) {
                 let d = &self.dofs[k];
                 let slots = &self.slots[k * N * N..(k + 1) * N * N];
                 for i in 0..N {
@@ -223,7 +230,7 @@ impl<S: Stencil<N> + Send + Sync, const N: usize> AnyStencilSet for StencilSet<S
                 }
             }
         };
-        for_each_block(self.stencils.len(), derivatives, scatter);
+        ordered_map(threads(), BLOCK / 2, n.div_ceil(2), pair, scatter);
         Ok(())
     }
 }
