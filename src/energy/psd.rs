@@ -189,23 +189,33 @@ pub fn project_psd_reduced<const N: usize, const R: usize>(
     kept: &[usize; R],
     anchor: &[usize; R],
 ) -> SMatrix<f64, N, N> {
-    expand(&project_psd(&reduce(h, kept)), kept, anchor)
+    project_psd_block(&SMatrix::from_fn(|k, l| h[(kept[k], kept[l])]), kept, anchor)
 }
 
-/// [`project_psd_reduced`] of two Hessians of the same stencil kind, bit
-/// for bit, through [`project_psd_pair`].
-pub fn project_psd_reduced_pair<const N: usize, const R: usize>(
-    a: &SMatrix<f64, N, N>,
-    b: &SMatrix<f64, N, N>,
+/// [`project_psd_reduced`] from the `kept x kept` block of the Hessian
+/// alone (`block[(k, l)] = h[(kept[k], kept[l])]`), for a stencil that
+/// computes only that block.
+pub fn project_psd_block<const N: usize, const R: usize>(
+    block: &SMatrix<f64, R, R>,
+    kept: &[usize; R],
+    anchor: &[usize; R],
+) -> SMatrix<f64, N, N> {
+    expand(&project_psd(&symmetrized(block)), kept, anchor)
+}
+
+/// [`project_psd_block`] of two blocks, bit for bit, through
+/// [`project_psd_pair`].
+pub fn project_psd_block_pair<const N: usize, const R: usize>(
+    a: &SMatrix<f64, R, R>,
+    b: &SMatrix<f64, R, R>,
     kept: &[usize; R],
     anchor: &[usize; R],
 ) -> [SMatrix<f64, N, N>; 2] {
-    project_psd_pair(&reduce(a, kept), &reduce(b, kept)).map(|p| expand(&p, kept, anchor))
+    project_psd_pair(&symmetrized(a), &symmetrized(b)).map(|p| expand(&p, kept, anchor))
 }
 
-/// The symmetrised `kept x kept` block.
-fn reduce<const N: usize, const R: usize>(h: &SMatrix<f64, N, N>, kept: &[usize; R]) -> SMatrix<f64, R, R> {
-    SMatrix::<f64, R, R>::from_fn(|k, l| 0.5 * (h[(kept[k], kept[l])] + h[(kept[l], kept[k])]))
+fn symmetrized<const R: usize>(b: &SMatrix<f64, R, R>) -> SMatrix<f64, R, R> {
+    SMatrix::from_fn(|k, l| 0.5 * (b[(k, l)] + b[(l, k)]))
 }
 
 /// `J^T P J` for the difference map `J`.
@@ -395,14 +405,15 @@ mod tests {
             psd = other * other.transpose();
             indefinite = other;
         }
-        // Reduced pairs, through the 6x6 difference stencil of the test above.
-        let h = SMatrix::<f64, 6, 6>::from_fn(
-            |i, j| if (i < 3) == (j < 3) { 1.0 } else { -1.0 } * ((i % 3) as f64 - (j % 3) as f64 + 0.5),
-        );
+        // Block pairs, through the 6x6 difference stencil of the test above.
+        let sign = |i: usize, j: usize| if (i < 3) == (j < 3) { 1.0 } else { -1.0 };
+        let h = SMatrix::<f64, 6, 6>::from_fn(|i, j| sign(i, j) * ((i % 3) as f64 - (j % 3) as f64 + 0.5));
         let h2 = h * 2.0 - SMatrix::<f64, 6, 6>::identity();
-        let [ra, rb] = project_psd_reduced_pair(&h, &h2, &[3, 4, 5], &[0, 1, 2]);
-        assert_eq!(bits(&ra), bits(&project_psd_reduced(&h, &[3, 4, 5], &[0, 1, 2])));
-        assert_eq!(bits(&rb), bits(&project_psd_reduced(&h2, &[3, 4, 5], &[0, 1, 2])));
+        let (kept, anchor) = ([3, 4, 5], [0, 1, 2]);
+        let block = |h: &SMatrix<f64, 6, 6>| SMatrix::<f64, 3, 3>::from_fn(|k, l| h[(kept[k], kept[l])]);
+        let [ra, rb] = project_psd_block_pair::<6, 3>(&block(&h), &block(&h2), &kept, &anchor);
+        assert_eq!(bits(&ra), bits(&project_psd_reduced(&h, &kept, &anchor)));
+        assert_eq!(bits(&rb), bits(&project_psd_reduced(&h2, &kept, &anchor)));
     }
 
     #[test]

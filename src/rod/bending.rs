@@ -65,7 +65,8 @@ pub struct Bending {
 }
 
 /// Bending reads its local vector only through differences from `(x0, u0)`:
-/// its Hessian is projected in those coordinates (`project_psd_reduced`).
+/// its Hessian is projected in those coordinates (`project_psd_reduced`),
+/// which are the contiguous `x1, u1, x2, u2` (`kept_block` relies on it).
 const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
 const ANCHOR: [usize; 8] = [0, 1, 2, 3, 0, 1, 2, 3];
 
@@ -137,8 +138,28 @@ impl Bending {
                 return (value_gradient(&edge_map(), f, &g6, d).1, h);
             }
         }
-        let (_, g, h) = self.evaluate(q);
-        (g, crate::energy::psd::project_psd_reduced(&h, &KEPT, &ANCHOR))
+        let (g, block) = self.kept_block(q);
+        (g, crate::energy::psd::project_psd_block(&block, &KEPT, &ANCHOR))
+    }
+
+    /// The gradient and the `KEPT x KEPT` block of the Hessian, all the
+    /// projection reads: [`evaluate`](Self::evaluate)'s operations on
+    /// those entries only (the same bits; 64 of the 144 entries and their
+    /// divisions, and half the products through the edge map).
+    fn kept_block(&self, q: &SVector<f64, 12>) -> (SVector<f64, 12>, SMatrix<f64, 8, 8>) {
+        let (e1, e2, d) = Self::edges(q);
+        let (f, g6, h6) = angle_energy(&e1, &e2, &self.profile());
+        if d <= 0.0 {
+            return (SVector::zeros(), SMatrix::zeros());
+        }
+        let s = edge_map();
+        let (_, grad, gf, gd) = value_gradient(&s, f, &g6, d);
+        let s_kept = s.fixed_columns::<8>(KEPT[0]);
+        let hf = s_kept.transpose() * h6 * s_kept;
+        let (gf, gd) = (gf.fixed_rows::<8>(KEPT[0]), gd.fixed_rows::<8>(KEPT[0]));
+        let cross = gf * gd.transpose();
+        let hess = hf / d - (cross + cross.transpose()) / (d * d) + gd * gd.transpose() * (2.0 * f / (d * d * d));
+        (grad, hess)
     }
 }
 
@@ -203,8 +224,8 @@ impl Stencil<12> for Bending {
         if !project || a.hessian == BendingHessian::Split || b.hessian == BendingHessian::Split {
             return [a.derivatives(xa, project), b.derivatives(xb, project)];
         }
-        let ((_, ga, ha), (_, gb, hb)) = (a.evaluate(xa), b.evaluate(xb));
-        let [pa, pb] = crate::energy::psd::project_psd_reduced_pair(&ha, &hb, &KEPT, &ANCHOR);
+        let ((ga, ha), (gb, hb)) = (a.kept_block(xa), b.kept_block(xb));
+        let [pa, pb] = crate::energy::psd::project_psd_block_pair(&ha, &hb, &KEPT, &ANCHOR);
         [(ga, pa), (gb, pb)]
     }
 }
@@ -234,6 +255,40 @@ mod tests {
         let x2 = x1 + (t * theta.cos() + n * theta.sin()) * l2;
         let u0 = rng.range(-1.0, 1.0);
         local([x0, x1, x2], [u0, u0 + l1, u0 + l1 + l2])
+    }
+
+    #[test]
+    fn the_kept_block_is_the_full_hessians_bit_for_bit() {
+        let mut rng = Rng::new(23);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let mut cases: Vec<(Bending, SVector<f64, 12>)> = Vec::new();
+        for theta in [0.0, 1e-9, 1e-4, 0.3, 1.0, 2.0, PI - 1e-4, PI - 1e-9, PI] {
+            for rest in [0.0, 0.4] {
+                let (l1, l2) = (rng.range(1e-6, 2.0), rng.range(1e-6, 2.0));
+                cases.push((Bending::with_rest_angle(2.0, rest), bent(&mut rng, theta, l1, l2)));
+            }
+        }
+        // Coincident nodes, and a `u` gap that is zero or negative.
+        let mut q = bent(&mut rng, 1.0, 1.0, 1.0);
+        let x1 = q.fixed_rows::<3>(X1).clone_owned();
+        q.fixed_rows_mut::<3>(X2).copy_from(&x1);
+        cases.push((Bending::new(1.0), q));
+        for gap in [0.0, -0.5] {
+            let mut q = bent(&mut rng, 1.0, 1.0, 1.0);
+            q[U2] = q[U0] + gap;
+            cases.push((Bending::new(1.0), q));
+        }
+        for (b, q) in &cases {
+            let (_, g, h) = b.evaluate(q);
+            let (gk, block) = b.kept_block(q);
+            let want = if q[U2] - q[U0] > 0.0 {
+                SMatrix::<f64, 8, 8>::from_fn(|k, l| h[(KEPT[k], KEPT[l])])
+            } else {
+                SMatrix::zeros()
+            };
+            assert_eq!(bits(gk.as_slice()), bits(g.as_slice()));
+            assert_eq!(bits(block.as_slice()), bits(want.as_slice()));
+        }
     }
 
     #[test]
