@@ -61,6 +61,8 @@ pub enum AssemblyError {
     LengthMismatch { set: String, stencils: usize, dofs: usize },
     #[error("stencil set '{set}': coordinate {index} out of range for {n} coordinates")]
     OutOfRange { set: String, index: usize, n: usize },
+    #[error("stencil set '{set}': the Hessian has {nnz} entries, more than the 2^32 a value slot can address")]
+    TooManyEntries { set: String, nnz: usize },
 }
 
 /// A type-erased stencil set, as the Newton problem holds it. `Send` so
@@ -101,7 +103,7 @@ pub struct StencilSet<S, const N: usize> {
     /// `dofs[k][i]`: global coordinate of local coordinate `i` of stencil `k`.
     pub dofs: Vec<[u32; N]>,
     /// `N*N` value positions per stencil, row-major; empty until bound.
-    slots: Vec<usize>,
+    slots: Vec<u32>,
     /// `(n, nnz)` of the matrix bound to: a cheap guard against scattering
     /// into a different pattern (a full comparison would cost as much as the scatter).
     bound_shape: (usize, usize),
@@ -160,6 +162,12 @@ impl<S: Stencil<N> + Send + Sync, const N: usize> AnyStencilSet for StencilSet<S
 
     fn bind(&mut self, h: &CsrMatrix) -> Result<(), AssemblyError> {
         self.validate(h.n)?;
+        if u32::try_from(h.nnz()).is_err() {
+            return Err(AssemblyError::TooManyEntries {
+                set: self.name.clone(),
+                nnz: h.nnz(),
+            });
+        }
         let slots = slots::block_slots(&self.dofs, h).map_err(|(row, col)| AssemblyError::MissingEntry {
             set: self.name.clone(),
             row,
@@ -216,15 +224,15 @@ impl<S: Stencil<N> + Send + Sync, const N: usize> AnyStencilSet for StencilSet<S
             for (k, (g, hl)) in (2 * start..n).zip(block.iter().flatten()) {
                 let d = &self.dofs[k];
                 let slots = &self.slots[k * N * N..(k + 1) * N * N];
+                let is_free = d.map(|r| free[r as usize]);
                 for i in 0..N {
-                    let r = d[i] as usize;
-                    if !free[r] {
+                    if !is_free[i] {
                         continue;
                     }
-                    grad[r] += g[i];
+                    grad[d[i] as usize] += g[i];
                     for j in 0..N {
-                        if free[d[j] as usize] {
-                            h.values[slots[i * N + j]] += hl[(i, j)];
+                        if is_free[j] {
+                            h.values[slots[i * N + j] as usize] += hl[(i, j)];
                         }
                     }
                 }
