@@ -190,7 +190,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         };
-        let mut jet = |next: &mut dyn FnMut() -> f64| Jet::<9> {
+        let jet = |next: &mut dyn FnMut() -> f64| Jet::<9> {
             v: next(),
             g: SVector::from_fn(|_, _| next()),
             h: SMatrix::from_fn(|_, _| next()),
