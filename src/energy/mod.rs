@@ -45,3 +45,24 @@ pub trait Stencil<const N: usize> {
         [a.derivatives(xa, project), b.derivatives(xb, project)]
     }
 }
+
+/// [`Stencil::derivatives_pair`] for a stencil that keeps the default
+/// [`Stencil::derivatives`] (its whole Hessian projected): the two
+/// projections interleaved, bit for bit the two single calls. A stencil
+/// opts in by overriding `derivatives_pair` with this; it cannot be the
+/// trait's default, which must respect an overridden `derivatives`.
+pub fn whole_hessian_pair<const N: usize, S: Stencil<N>>(
+    a: &S,
+    xa: &SVector<f64, N>,
+    b: &S,
+    xb: &SVector<f64, N>,
+    project: bool,
+) -> [(SVector<f64, N>, SMatrix<f64, N, N>); 2] {
+    let (ha, hb) = (a.hessian(xa), b.hessian(xb));
+    let [ha, hb] = if project {
+        psd::project_psd_pair(&ha, &hb)
+    } else {
+        [ha, hb]
+    };
+    [(a.gradient(xa), ha), (b.gradient(xb), hb)]
+}
