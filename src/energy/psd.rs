@@ -360,13 +360,8 @@ mod tests {
             }
             out
         }
-        let mut state = 5u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        let mut rng = crate::rod::testutil::Rng::new(5);
+        let mut next = || rng.range(-1.0, 1.0);
         for _ in 0..200 {
             let m = SMatrix::<f64, 8, 8>::from_fn(|_, _| next());
             let want: Vec<u64> = outer_products(&m).iter().map(|v| v.to_bits()).collect();
@@ -385,13 +380,8 @@ mod tests {
             assert_eq!(bits(&pa), bits(&project_psd(a)));
             assert_eq!(bits(&pb), bits(&project_psd(b)));
         }
-        let mut state = 11u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        let mut rng = crate::rod::testutil::Rng::new(11);
+        let mut next = || rng.range(-1.0, 1.0);
         let mut random = || SMatrix::<f64, 8, 8>::from_fn(|_, _| next() * 1e3);
         let (mut indefinite, mut psd) = (random(), SMatrix::<f64, 8, 8>::identity());
         let mut nan = random();

@@ -183,13 +183,8 @@ mod tests {
 
     #[test]
     fn fused_product_and_chain_rule_are_the_matrix_expressions_bit_for_bit() {
-        let mut state = 3u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        let mut rng = crate::rod::testutil::Rng::new(3);
+        let mut next = || rng.range(-1.0, 1.0);
         let jet = |next: &mut dyn FnMut() -> f64| Jet::<9> {
             v: next(),
             g: SVector::from_fn(|_, _| next()),
