@@ -104,22 +104,35 @@ fn is_numerically_psd<const N: usize>(m: &SMatrix<f64, N, N>) -> bool {
 /// A matrix that is already PSD up to a relative `1e-12` comes back
 /// symmetrised but otherwise unchanged.
 pub fn project_psd<const N: usize>(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-    let sym = (m + m.transpose()) * 0.5;
+    let sym = symmetrised(m);
     if is_numerically_psd(m) {
         return sym;
     }
+    project_indefinite(m, sym)
+}
+
+/// The projection of `m`, whose symmetric part is `sym`, once the PSD test
+/// has failed.
+fn project_indefinite<const N: usize>(m: &SMatrix<f64, N, N>, sym: SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
     let (ev, v) = symmetric_qr::eigen(&sym.data.0, f64::EPSILON, 100 * N).unwrap_or_else(|| nalgebra_eigen(m, &sym));
     clamped(sym, &ev, &v)
+}
+
+fn symmetrised<const N: usize>(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
+    (m + m.transpose()) * 0.5
 }
 
 /// [`project_psd`] of two matrices, bit for bit, with their
 /// eigen-decompositions interleaved ([`symmetric_qr::eigen_pair`]): 20%
 /// less time for two indefinite 8x8 blocks than one after the other.
 pub fn project_psd_pair<const N: usize>(a: &SMatrix<f64, N, N>, b: &SMatrix<f64, N, N>) -> [SMatrix<f64, N, N>; 2] {
-    if is_numerically_psd(a) || is_numerically_psd(b) {
-        return [project_psd(a), project_psd(b)];
+    let (sa, sb) = (symmetrised(a), symmetrised(b));
+    match (is_numerically_psd(a), is_numerically_psd(b)) {
+        (true, true) => return [sa, sb],
+        (true, false) => return [sa, project_indefinite(b, sb)],
+        (false, true) => return [project_indefinite(a, sa), sb],
+        (false, false) => {}
     }
-    let (sa, sb) = ((a + a.transpose()) * 0.5, (b + b.transpose()) * 0.5);
     let [ra, rb] = symmetric_qr::eigen_pair(&sa.data.0, &sb.data.0, f64::EPSILON, 100 * N);
     let (ea, va) = ra.unwrap_or_else(|| nalgebra_eigen(a, &sa));
     let (eb, vb) = rb.unwrap_or_else(|| nalgebra_eigen(b, &sb));
