@@ -75,9 +75,7 @@ pub fn assert_pair_is_two_singles<const N: usize, S: Stencil<N>>(
     b: &S,
     xb: &SVector<f64, N>,
 ) {
-    let bits = |(g, h): &(SVector<f64, N>, SMatrix<f64, N, N>)| -> Vec<u64> {
-        g.iter().chain(h.iter()).map(|v| v.to_bits()).collect()
-    };
+    let bits = |(g, h): &super::Derivatives<N>| -> Vec<u64> { g.iter().chain(h.iter()).map(|v| v.to_bits()).collect() };
     for project in [true, false] {
         let singles = [a.derivatives(xa, project), b.derivatives(xb, project)];
         let pair = S::derivatives_pair(a, xa, b, xb, project);

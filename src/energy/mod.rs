@@ -12,6 +12,9 @@ pub mod symmetric_qr;
 
 use nalgebra::{SMatrix, SVector};
 
+/// A stencil's gradient and (possibly projected) Hessian.
+pub type Derivatives<const N: usize> = (SVector<f64, N>, SMatrix<f64, N, N>);
+
 /// A potential on `N` local coordinates.
 pub trait Stencil<const N: usize> {
     fn value(&self, x: &SVector<f64, N>) -> f64;
@@ -38,7 +41,7 @@ pub trait Stencil<const N: usize> {
         b: &Self,
         xb: &SVector<f64, N>,
         project: bool,
-    ) -> [(SVector<f64, N>, SMatrix<f64, N, N>); 2]
+    ) -> [Derivatives<N>; 2]
     where
         Self: Sized,
     {
@@ -57,7 +60,7 @@ pub fn whole_hessian_pair<const N: usize, S: Stencil<N>>(
     b: &S,
     xb: &SVector<f64, N>,
     project: bool,
-) -> [(SVector<f64, N>, SMatrix<f64, N, N>); 2] {
+) -> [Derivatives<N>; 2] {
     let (ha, hb) = (a.hessian(xa), b.hessian(xb));
     let [ha, hb] = if project {
         psd::project_psd_pair(&ha, &hb)

@@ -24,7 +24,7 @@
 //! with `grad D` = -1 at `u0`, +1 at `u2`.
 
 use super::angle::{angle_energy, angle_gradient, angle_value, QuadraticAngle};
-use crate::energy::Stencil;
+use crate::energy::{Derivatives, Stencil};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 /// Which PSD Hessian Newton gets from a bending stencil.
@@ -220,7 +220,7 @@ impl Stencil<12> for Bending {
         b: &Self,
         xb: &SVector<f64, 12>,
         project: bool,
-    ) -> [(SVector<f64, 12>, SMatrix<f64, 12, 12>); 2] {
+    ) -> [Derivatives<12>; 2] {
         if !project || a.hessian == BendingHessian::Split || b.hessian == BendingHessian::Split {
             return [a.derivatives(xa, project), b.derivatives(xb, project)];
         }

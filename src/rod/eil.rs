@@ -36,7 +36,7 @@
 //! the EIL threshold apart): the constraint value is then `+inf` with zero
 //! derivatives.
 
-use crate::energy::Stencil;
+use crate::energy::{Derivatives, Stencil};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 const XA: usize = 0;
@@ -192,7 +192,7 @@ impl Stencil<12> for EilToPoint {
         b: &Self,
         xb: &SVector<f64, 12>,
         project: bool,
-    ) -> [(SVector<f64, 12>, SMatrix<f64, 12, 12>); 2] {
+    ) -> [Derivatives<12>; 2] {
         crate::energy::whole_hessian_pair(a, xa, b, xb, project)
     }
 }
@@ -242,7 +242,7 @@ impl Stencil<18> for EilToEil {
         b: &Self,
         xb: &SVector<f64, 18>,
         project: bool,
-    ) -> [(SVector<f64, 18>, SMatrix<f64, 18, 18>); 2] {
+    ) -> [Derivatives<18>; 2] {
         crate::energy::whole_hessian_pair(a, xa, b, xb, project)
     }
 }

@@ -46,7 +46,7 @@
 
 use super::jet::{Jet, JetVec3};
 use crate::energy::psd::{project_psd, project_psd_pair};
-use crate::energy::Stencil;
+use crate::energy::{Derivatives, Stencil};
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::{PI, TAU};
 
@@ -242,7 +242,7 @@ impl Stencil<18> for Wrapping {
         b: &Self,
         xb: &SVector<f64, 18>,
         project: bool,
-    ) -> [(SVector<f64, 18>, SMatrix<f64, 18, 18>); 2] {
+    ) -> [Derivatives<18>; 2] {
         if !project {
             return [a.derivatives(xa, false), b.derivatives(xb, false)];
         }

@@ -31,10 +31,10 @@
 
 mod slots;
 
-use crate::energy::Stencil;
+use crate::energy::{Derivatives, Stencil};
 use crate::parallel::{ordered_map, threads};
 use crate::solver::sparse::CsrMatrix;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 /// Stencils per block of the parallel evaluation: small enough that the
 /// threads share uneven work (PSD projections run only for indefinite
@@ -220,7 +220,7 @@ impl<S: Stencil<N> + Send + Sync, const N: usize> AnyStencilSet for StencilSet<S
             let (xa, xb) = (Self::gather(q, &self.dofs[a]), Self::gather(q, &self.dofs[b]));
             S::derivatives_pair(&self.stencils[a], &xa, &self.stencils[b], &xb, project_psd)
         };
-        let scatter = |start: usize, block: &[[(SVector<f64, N>, SMatrix<f64, N, N>); 2]]| {
+        let scatter = |start: usize, block: &[[Derivatives<N>; 2]]| {
             for (k, (g, hl)) in (2 * start..n).zip(block.iter().flatten()) {
                 let d = &self.dofs[k];
                 let slots = &self.slots[k * N * N..(k + 1) * N * N];
