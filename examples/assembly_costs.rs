@@ -11,7 +11,7 @@
 //! stencil set's `accumulate` (gradient and Hessian, scattered into the
 //! matrix) on [`knitsim::parallel::threads`] threads, the fastest of 5,
 //! first plain, then projected. The difference of the two columns is what
-//! the projection costs; docs/RELAX.md section 16 has the figures.
+//! the projection costs; docs/RELAX.md, "PSD projections", has the figures.
 //! `KNITSIM_BENCH_BENDING=split` times the bending stencils with the
 //! closed-form Hessian (`SimParams::bending_hessian`) instead.
 

@@ -4,7 +4,7 @@
 //!
 //! Yarns are smooth random walks of (at most) unit-length segments packed in
 //! a slab (like a fabric layer, 0.5 segments per unit volume, whatever the size), with the activation
-//! distance h = 0.5 segment lengths (seed 003 resolutions put several
+//! distance h = 0.5 segment lengths (the resolutions of the thickness-contact paper put several
 //! segments per thickness; the broad phase cost depends on h / length).
 //! The broad phase returns candidate pairs; the narrow phase computes every
 //! candidate's segment distance and keeps those closer than h.

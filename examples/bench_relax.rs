@@ -15,7 +15,7 @@
 //! under perturbations far below any physical scale: each case is run
 //! unperturbed and with SEEDS-1 seeded jitters of every compiled node
 //! position by up to 1 nm (the yarn radius is 0.75 mm). The float
-//! patterns' counts depend on rounding (docs/RELAX.md), so a single count
+//! patterns' counts depend on rounding (docs/RELAX.md, "Sensitivity to rounding"), so a single count
 //! is one sample of a spread; this prints the spread.
 //!
 //! `KNITSIM_BENCH_BENDING=split` (or `eigen`) picks the bending stencils'
@@ -25,21 +25,21 @@
 //! variable `KNITSIM_BENCH_TRACE` set it prints every Newton iteration and
 //! every step's static residual on stderr); `--spread SIZES SEEDS
 //! [STOP]` passes STOP on. STOP is `AssignParams::stop_fraction` (default
-//! 0: off; docs/RELAX.md section 8 measured 0.05).
+//! 0: off; docs/RELAX.md, "Slide stops", measured 0.05).
 //!
 //! `-- --iteration-cost SIZES REPS` measures seconds per Newton iteration
 //! on a workload that does not depend on when the equilibrium test happens
 //! to pass: the first two relaxation steps (each runs to its Newton cap
 //! unless a segment closes first; the second has the first EIL points), `REPS` times per
-//! case, sizes interleaved, keeping each case's fastest run. The sandbox's
-//! speed drifts by up to 25% over minutes (docs/RELAX.md), so single runs
+//! case, sizes interleaved, keeping each case's fastest run. The development
+//! machine's speed drifts by up to 25% over minutes (docs/BENCHMARKS.md), so single runs
 //! of different sizes are not comparable; the minimum over interleaved
 //! repetitions is. Prints the exponent of seconds per iteration against
 //! DOFs between consecutive sizes and fitted over all of them.
 //!
 //! `--shape-gap G`, before or after any mode, compiles every case with the
 //! layout's shape points thinned at G yarn diameters
-//! (`CompileOptions::shape_gap`, docs/RELAX.md section 11).
+//! (`CompileOptions::shape_gap`, docs/RELAX.md, "Shape gap").
 //!
 //! `-- --orderings SIZES [STEPS]` prints, for each case's Newton matrix
 //! after STEPS relaxation steps (default 0: the first one), the Cholesky

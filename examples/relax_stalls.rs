@@ -14,7 +14,7 @@
 //! bending force its shortest real segment. (Friction is evaluated with the
 //! anchors as the step left them, so its column is approximate.)
 //!
-//! docs/RELAX.md section 15 used it to find what stalls the float
+//! docs/RELAX.md, "Closed segments", describes what stalls the float
 //! patterns' Newton steps.
 
 #[path = "common/mod.rs"]

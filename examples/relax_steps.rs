@@ -8,7 +8,7 @@
 //!
 //! Per step: Newton iterations; how many of them lowered the energy by
 //! less than 0.1% ("stalled": in the traces these are a sliding contact
-//! pressed against a real neighbour, docs/RELAX.md); the EIL count; the
+//! pressed against a real neighbour, docs/RELAX.md, "Slide stops"); the EIL count; the
 //! static residual where the step ended and which unknown carries the
 //! largest free force; and the real segments shorter than 1% of the yarn's
 //! mean rest segment, by what their two ends are (contact, resolution node,

@@ -2,8 +2,8 @@
 //! direction, line-search trials) and, per step, which energy term carries
 //! the largest free force, and how many unknowns Newton held at a bound.
 //! `cargo run --release --example relax_trace -- PATTERN [steps]`; the
-//! environment variable `STOP` sets `assign.stop_fraction` (docs/RELAX.md
-//! section 8).
+//! environment variable `STOP` sets `assign.stop_fraction` (docs/RELAX.md,
+//! "Slide stops").
 
 use knitsim::app::load_fabric;
 use knitsim::sim::Simulation;

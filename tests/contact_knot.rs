@@ -1,7 +1,8 @@
-//! Seed 003 Fig. 4 (knot test): a 0.3 mm thick knotted yarn, 55 mm long,
+//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*, Fig. 4 (knot test): a 0.3 mm thick knotted yarn, 55 mm long,
 //! pulled from both ends, at 30, 60 and 120 segments. The filtered barrier
 //! must tighten the knot without any segment ever passing through another;
-//! the contact-culled model (Kaldor 2008, window 5 as in seed 003 app. A)
+//! the contact-culled model (window 5, as in the knot test of *Unlocking Thickness Modeling for
+//! Codimensional Contact Simulation*)
 //! lets the yarn pass through itself.
 //!
 //! The knot is an open trefoil: the curve `(sin t + 2 sin 2t, cos t -
@@ -224,7 +225,7 @@ fn filtered_knot_tightens_without_pull_through_120() {
 fn culled_knot_pulls_through() {
     let c: Vec<(usize, f64)> = [30, 60, 120].iter().map(|&n| check_culled(n)).collect();
     eprintln!("culled (crossings, final width m) at 30, 60, 120 segments: {c:?}");
-    // Seed 003 reports pull-through at every resolution. Two independent
+    // The thickness-contact paper reports pull-through at every resolution. Two independent
     // signs of it: the frame-to-frame check sees a segment pass another,
     // or the knot is gone: every node within one thickness of the line
     // through the pulled ends. A trefoil cannot be pulled straight without

@@ -1,11 +1,12 @@
-//! Seed 003 Fig. 12 (loop test): a 0.5 mm thick yarn, 55 mm long, with one
+//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*, Fig. 12 (loop test): a 0.5 mm thick yarn, 55 mm long, with one
 //! tight loop whose crossing strands are close to touching, relaxed to
 //! equilibrium with its ends pinned. The resolution (0.275 mm segments) is
 //! finer than the thickness. Filtered: the loop neither expands (the yarn
 //! keeps its rest length) nor passes through itself. The plain barrier
 //! inflates the yarn. Culled (window 11) is run and printed for comparison
 //! only: without a load pressing the crossing strands together it does not
-//! pass through in this unloaded relaxation (seed 003 shows it under load).
+//! pass through in this unloaded relaxation (*Unlocking Thickness Modeling for Codimensional Contact
+//! Simulation* shows it under load).
 //!
 //! Geometry: the prolate cycloid `(t - 2 sin t, -2 cos t)`, `t in [-4, 4]`,
 //! which crosses itself at `t = +-1.895`, lifted by `z = -0.68 h tanh t` so

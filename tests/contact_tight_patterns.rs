@@ -68,7 +68,7 @@ fn linen(mode: ContactModeName) -> (Run, f64) {
 /// The tight linen stitch with the filtered barrier: every step accepted, no
 /// crossing, energy down. The static residual is not asserted to fall: the
 /// tight fabric ends pressed into its barriers (smallest separation under 1%
-/// of the thickness) and 25 steps do not reach equilibrium (issue 3).
+/// of the thickness) and 25 steps do not reach equilibrium.
 ///
 /// This run found a bug in the EIL state transfer (`sim::transfer`): a
 /// contact node whose points were both EIL was placed with the old, clamped

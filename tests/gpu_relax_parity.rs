@@ -1,6 +1,6 @@
 //! Relaxing with the GPU linear solver reaches the same equilibrium as the
 //! sparse Cholesky: the RMS node distance between the two relaxed states is
-//! below 1% of the yarn radius (issue 5, acceptance 2).
+//! below 1% of the yarn radius.
 //!
 //! Two problems:
 //! - **A shipped pattern**: `patterns/stockinette.knit` shrunk to 2x2

@@ -1,4 +1,4 @@
-//! Seed 000's friction validation: a yarn patch lying on a fixed patch with
+//! The friction validation of *Robust Eulerian-on-Lagrangian Rods*: a yarn patch lying on a fixed patch with
 //! `mu = 1` stays put on a 40 degree incline and slides on a 50 degree one
 //! (Coulomb: slide iff `tan(theta) > mu`).
 //!

@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 2-c/d: two yarns slide along a third until their contacts
+//! *Robust Eulerian-on-Lagrangian Rods*, Fig. 2-c/d: two yarns slide along a third until their contacts
 //! cross. With EIL nodes the run completes with finite energy and a bounded
 //! number of Newton iterations per step; with EIL disabled the segment
 //! between the two contacts degenerates (`du -> 0`, stiffness `ks/du -> inf`)

@@ -1,4 +1,4 @@
-//! Every shipped pattern, loose and tight, relaxes (issue 3, acceptance 5).
+//! Every shipped pattern, loose and tight, relaxes.
 //!
 //! Each pattern is shrunk to the smallest width and height of at least 8
 //! that its repeats allow (full-size runs are the benchmark's job), then
@@ -164,7 +164,7 @@ fn relax_all_with(looseness: &str, shape_gap: f64, params: SimParams) {
     );
 }
 
-// Issue 3 acceptance 5: every shipped pattern (knit-purl, slip, tuck and
+// Every shipped pattern (knit-purl, slip, tuck and
 // colourwork), loose and tight. Two tests so the two run in parallel.
 
 #[test]
@@ -178,8 +178,8 @@ fn every_shipped_pattern_relaxes_tight() {
 }
 
 /// The same checks with the layout's shape points thinned at one yarn
-/// diameter (`CompileOptions::shape_gap`, opt-in; docs/RELAX.md section
-/// 11), on every pattern that thinning changes: fewer, longer segments
+/// diameter (`CompileOptions::shape_gap`, opt-in; docs/RELAX.md, "Shape gap"),
+/// on every pattern that thinning changes: fewer, longer segments
 /// must not cost any pattern its equilibrium or a contact.
 #[test]
 fn every_shipped_pattern_relaxes_loose_with_shape_points_thinned() {
@@ -192,7 +192,7 @@ fn every_shipped_pattern_relaxes_tight_with_shape_points_thinned() {
 }
 
 /// The closed-form bending Hessian (`--bending-hessian split`, opt-in;
-/// docs/RELAX.md section 16) changes only Newton's model, not the
+/// docs/RELAX.md, "Bending Hessian") changes only Newton's model, not the
 /// energy: every shipped pattern still reaches the default tolerance with
 /// every check above.
 #[test]
@@ -204,8 +204,8 @@ fn every_shipped_pattern_relaxes_with_the_split_bending_hessian() {
     relax_all_with("loose", 0.0, params);
 }
 
-/// The opt-in sliding stops (`AssignParams::stop_fraction`, docs/RELAX.md
-/// section 8) on the float patterns, where contacts slide furthest: the
+/// The opt-in sliding stops (`AssignParams::stop_fraction`, docs/RELAX.md,
+/// "Slide stops") on the float patterns, where contacts slide furthest: the
 /// stops engage (Newton holds points at them) and every check above holds.
 #[test]
 fn float_patterns_relax_with_sliding_stops() {
@@ -248,7 +248,7 @@ fn a_jacquard_with_a_thicker_contrast_yarn_relaxes() {
 }
 
 /// With `RelaxOptions::keep_eil` an EIL point is never turned real again
-/// while relaxing (docs/RELAX.md section 15), new EIL points still appear,
+/// while relaxing (docs/RELAX.md, "Keeping EIL points"), new EIL points still appear,
 /// and `relax` hands the simulation back with the scene's release rule, so
 /// dynamics afterwards releases as before. Without it a point is released.
 #[test]

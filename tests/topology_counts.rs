@@ -2,7 +2,7 @@
 //! pattern files behind `knitsim compile PATTERN --stats` (stockinette,
 //! 1x1 rib, linen stitch, jacquard), and for small inline patches. Every
 //! expected number is derived in the comments from the chart and the
-//! contact rules (`topology` module docs, MODEL.md sec. 7), not from the
+//! contact rules (`topology` module docs, docs/MODEL.md, "Stitch contact layout"), not from the
 //! program's output. Inline charts are drawn top row first (see
 //! `topology::sample`).
 

@@ -22,7 +22,7 @@ struct Cli {
     /// When compiling a pattern, drop the layout's shape points closer than
     /// this many yarn diameters to a contact (0: keep all). At 1, float
     /// patterns relax several times faster but curl further out of plane
-    /// (docs/RELAX.md section 11).
+    /// (docs/RELAX.md, "Shape gap").
     #[arg(long, global = true, value_name = "DIAMETERS", default_value_t = 0.0)]
     shape_gap: f64,
 }
@@ -64,7 +64,7 @@ enum Command {
         #[arg(long)]
         no_eil: bool,
         /// Keep every EIL point EIL until the relaxation ends (no
-        /// releases between steps; docs/RELAX.md section 15).
+        /// releases between steps; docs/RELAX.md, "Keeping EIL points").
         #[arg(long)]
         keep_eil: bool,
         /// Static residual tolerance (largest free force / axial stiffness).
@@ -79,8 +79,8 @@ enum Command {
         contact: Option<ContactModeName>,
         /// The bending stencils' PSD Hessian for Newton: eigen (the nearest
         /// PSD matrix, default) or split (closed form: cheaper iterations, a
-        /// deeper relaxation that takes more of them; docs/RELAX.md
-        /// section 16). Overrides the scene's "bending_hessian".
+        /// deeper relaxation that takes more of them; docs/RELAX.md,
+        /// "Bending Hessian"). Overrides the scene's "bending_hessian".
         #[arg(long, value_name = "MODEL")]
         bending_hessian: Option<BendingHessian>,
     },
@@ -277,7 +277,7 @@ fn relax(
     if outcome.pending_kind_changes > 0 {
         println!(
             "{} point(s) would change kind (real/EIL) at the next re-assignment: the state is an \
-             equilibrium of its own discretization (docs/RELAX.md)",
+             equilibrium of its own discretization (docs/RELAX.md, \"Stopping test\")",
             outcome.pending_kind_changes
         );
     }

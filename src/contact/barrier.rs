@@ -1,7 +1,7 @@
 //! The IPC log barrier on distances, its biphasic (hard-core) form, and the
 //! adaptive barrier stiffness of IPC.
 //!
-//! **Barrier** (MODEL.md sec. 5, seed 003 eq. 2, Li 2020):
+//! **Barrier** (docs/MODEL.md, "Thickness contact"):
 //! `b(d, a) = -(d - a)^2 ln(d / a)` for `0 < d < a`, zero for `d >= a`,
 //! `+inf` for `d <= 0`. It is C2 at `d = a` (value, slope and curvature all
 //! vanish there), which is what lets Newton cross the activation boundary.
@@ -16,12 +16,12 @@
 //! identical to [`barrier`], [`barrier_d1`] and [`barrier_d2`] with
 //! `d -> d`, `dhat -> a` (the fixtures compare them 1:1).
 //!
-//! **Biphasic** (Li 2021 "C-IPC", seed 003 eq. 3): `b(d, a, eta) =
+//! **Biphasic** (*Codimensional IPC*): `b(d, a, eta) =
 //! b(d - eta, a - eta)`. The barrier diverges at the hard core `d = eta`
 //! and is soft on `(eta, a)`. [`BarrierShape`] carries `(a, eta)` per stencil
-//! because seed 003's filter gives different stencils different shapes.
+//! because the filter gives different stencils different shapes.
 //!
-//! **Adaptive stiffness** (Li 2020, IPC, sec. 4.3 and its supplement):
+//! **Adaptive stiffness** (as in *Incremental Potential Contact*):
 //! kappa starts at the value that best balances the elastic gradient against
 //! the barrier gradient (least squares), clamped to `[kappa_min, kappa_max]`
 //! where `kappa_min` makes the barrier's curvature at a tiny gap comparable to
@@ -64,7 +64,7 @@ pub fn barrier_d2(d: f64, a: f64) -> f64 {
 pub struct BarrierShape {
     /// Distance at which the barrier switches on.
     pub activation: f64,
-    /// Distance at which it diverges (Li 2021's thickness offset).
+    /// Distance at which it diverges (the thickness offset of *Codimensional IPC*).
     pub core: f64,
 }
 
@@ -98,7 +98,7 @@ impl BarrierShape {
     }
 }
 
-/// Settings of IPC's adaptive barrier stiffness (Li 2020, sec. 4.3).
+/// Settings of IPC's adaptive barrier stiffness.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BarrierParams {
     /// `kappa_min` makes `kappa * b''` at the tiny reference gap equal to

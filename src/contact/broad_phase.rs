@@ -3,8 +3,8 @@
 //!
 //! Each segment's box is inflated by half the activation distance, so two
 //! segments closer than the activation distance have overlapping boxes
-//! (per axis, their gap is at most their distance). Seed 003 sec. 3.3 builds
-//! the hash with the *unfiltered* activation distance (the material
+//! (per axis, their gap is at most their distance). Following docs/MODEL.md,
+//! "Thickness contact", it builds the hash with the *unfiltered* activation distance (the material
 //! thickness), so one structure serves every contact mode.
 //!
 //! Design, for a million segments on a few cores:

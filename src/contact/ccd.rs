@@ -1,7 +1,7 @@
 //! Additive continuous collision detection (Li et al. 2021, "Codimensional
 //! IPC", sec. 5): a conservative time of impact for linear trajectories,
 //! used to cap the line-search step so no pair ever gets closer than its
-//! hard core (MODEL.md sec. 5, "non-intersection").
+//! hard core (docs/MODEL.md, "Thickness contact").
 //!
 //! Why it is conservative: after removing the mean displacement of the
 //! stencil (a rigid translation does not change distances), the relative

@@ -1,8 +1,8 @@
 //! Segment pairs joined by a persistent EoL contact, which must not get a
 //! thickness barrier near that contact.
 //!
-//! Why: an EoL contact node is *one* position shared by two yarns (seed 000;
-//! thickness is added only when rendering), so the two centrelines meet
+//! Why: an EoL contact node is *one* position shared by two yarns (docs/MODEL.md,
+//! "Kinematics"; thickness is added only when rendering), so the two centrelines meet
 //! there at distance zero. Any barrier between segments next to the node
 //! would fight the persistent contact that holds them together. A barrier
 //! pair is therefore dropped when one segment lies within `radius` (rest arc

@@ -1,25 +1,25 @@
 //! Which candidate pairs become contact stencils, and with which barrier:
-//! the compared methods of seed 003 sec. 4 and its filter (eqs. 1 and 4).
+//! the compared methods and the filter of docs/MODEL.md, "Thickness contact".
 //!
-//! - **Barrier** (Li 2021): every pair uses the material thickness, `a = h`,
+//! - **Barrier** (plain IPC): every pair uses the material thickness, `a = h`,
 //!   with the hard core `eta`. At fine resolution neighbours along a yarn
 //!   are closer than `h` at rest and push each other apart ("contact
-//!   locking", seed 003 sec. 3.1).
-//! - **Culled** (Kaldor 2008): as Barrier, but pairs within `window`
+//!   locking").
+//! - **Culled**: as Barrier, but pairs within `window`
 //!   segments of each other on the same yarn are dropped entirely; no
 //!   locking, but also no protection against pull-through there.
-//! - **Filtered** (seed 003 eq. 4): pairs whose rest distance `dbar >= h`
+//! - **Filtered**: pairs whose rest distance `dbar >= h`
 //!   keep `b(d, h, eta)`; pairs with `0 < dbar < h` get the single-phase
 //!   barrier `b(d, dbar_min, 0)`. Since `dbar_min <= dbar`, such a pair is
 //!   inactive at rest along a straight yarn, yet it still diverges at
-//!   `d = 0`, so the yarn can never pass through itself. Seed 003 drops the
+//!   `d = 0`, so the yarn can never pass through itself. The filter drops the
 //!   core for these pairs (`eta = 0`) because `dbar_min - eta` could be tiny
 //!   or negative, which would make the barrier stiff and CCD degenerate.
 //! - **Penalty** (the older yarn models): `k/2 (h - d)^2` for `d < h` on
 //!   every pair, no CCD; it lets yarns interpenetrate under load.
 //!
 //! The broad phase always uses the unfiltered activation distance `h`
-//! (seed 003 sec. 3.3), so one candidate list serves every mode.
+//! (docs/MODEL.md, "Thickness contact"), so one candidate list serves every mode.
 
 use super::barrier::BarrierShape;
 
@@ -30,11 +30,11 @@ pub enum ContactMode {
     None,
     /// Stiff quadratic penalty `k/2 (h - d)^2`.
     Penalty,
-    /// Plain IPC thickness barrier on every pair (Li 2021).
+    /// Plain IPC thickness barrier on every pair (*Codimensional IPC*).
     Barrier,
-    /// Barrier with same-yarn pairs within `window` segments removed (Kaldor 2008).
+    /// Barrier with same-yarn pairs within `window` segments removed.
     Culled { window: u32 },
-    /// Seed 003's filtered barrier.
+    /// The filtered barrier of docs/MODEL.md, "Thickness contact".
     #[default]
     Filtered,
 }
@@ -46,7 +46,8 @@ pub struct ThicknessParams {
     /// touch (twice the yarn radius). Also the activation distance.
     pub thickness: f64,
     /// Hard core `eta` in `[0, h)`: barriers diverge at this distance
-    /// (Li 2021's biphasic model; 0 = single phase). Seed 003 uses
+    /// (the biphasic model of *Codimensional IPC*; 0 = single phase).
+    /// *Unlocking Thickness Modeling for Codimensional Contact Simulation* uses
     /// `0.9 h` for its own method and `0.9 min(h, dbar_min)` when comparing
     /// with Barrier and Culled (see [`ThicknessParams::comparison_core`]).
     pub core: f64,
@@ -55,7 +56,8 @@ pub struct ThicknessParams {
 }
 
 impl Default for ThicknessParams {
-    /// Seed 003's thinnest yarn (150D/72F, 0.177 mm) in metres, single phase.
+    /// The thinnest yarn of *Unlocking Thickness Modeling for Codimensional Contact Simulation*
+    /// (150D/72F, 0.177 mm) in metres, single phase.
     fn default() -> Self {
         Self {
             thickness: 0.177e-3,
@@ -66,7 +68,7 @@ impl Default for ThicknessParams {
 }
 
 impl ThicknessParams {
-    /// Seed 003 appendix A: the core used for the Barrier and Culled
+    /// As in the appendix of *Unlocking Thickness Modeling for Codimensional Contact Simulation*: the core used for the Barrier and Culled
     /// comparisons, which fail at the first solve with a larger one.
     pub fn comparison_core(&self, dbar_min: f64) -> f64 {
         0.9 * self.thickness.min(dbar_min)

@@ -1,11 +1,11 @@
-//! Thickness contact for non-persistent yarn-yarn contacts (MODEL.md sec. 5,
-//! seed 003): the IPC barrier with seed 003's locking-free filter, robust
+//! Thickness contact for non-persistent yarn-yarn contacts (docs/MODEL.md,
+//! "Thickness contact"): the IPC barrier with its locking-free filter, robust
 //! segment distances, a spatial-hash broad phase and additive CCD.
 //!
 //! Why these pieces: yarns have a real thickness `h`, but at the resolutions
 //! knits need, neighbouring segments of one yarn are closer than `h` at rest.
 //! A plain barrier then pushes them apart (contact locking); culling those
-//! pairs lets yarns pass through themselves. Seed 003 keeps every pair but
+//! pairs lets yarns pass through themselves. The filter keeps every pair but
 //! gives pairs that are close *in the rest structure* a smaller, single-phase
 //! barrier ([`filter`]). CCD ([`ccd`]) caps each line-search step, so no
 //! pair ever crosses its barrier's core and the solve stays intersection-free.

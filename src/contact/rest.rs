@@ -1,6 +1,7 @@
-//! Reference (rest) distances between contact segments, `dbar_ij` of seed 003.
+//! Reference (rest) distances between contact segments, `dbar_ij` of docs/MODEL.md,
+//! "Thickness contact".
 //!
-//! Seed 003 measures `dbar_ij` in the undeformed mesh. For a rod that is the
+//! The filter measures `dbar_ij` in the undeformed mesh. For a rod that is the
 //! distance *along* the rod: the rest arc length between two segments (in
 //! `u`), not their Euclidean distance in the initial shape. Yarns are joined
 //! by persistent EoL contact nodes (one `x` shared by two yarns), so two
@@ -17,7 +18,7 @@
 //! thickness `h` and anything farther reads as infinity: the search visits
 //! the handful of segments within `h`, not the whole fabric.
 //!
-//! `dbar_min` (seed 003 sec. 3.2) is the smallest positive `dbar` over all
+//! `dbar_min` (docs/MODEL.md, "Thickness contact") is the smallest positive `dbar` over all
 //! pairs. A path between two segments that share no node contains at least
 //! one whole segment, and a segment `m` with other segments attached at both
 //! ends realises its own length (the two neighbours are `m` apart). So

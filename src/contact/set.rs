@@ -107,7 +107,7 @@ impl ContactSet {
         self
     }
 
-    /// `dbar_min` of seed 003 sec. 3.2.
+    /// `dbar_min` of docs/MODEL.md, "Thickness contact".
     pub fn dbar_min(&self) -> f64 {
         self.graph.min_reference_distance()
     }

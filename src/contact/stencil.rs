@@ -7,10 +7,10 @@
 //! returned unprojected (it is indefinite: `f' < 0` times the distance's own
 //! curvature); the assembler projects it to PSD.
 //!
-//! - [`EdgeEdgeBarrier`]: `kappa b(d, a, eta)` (seed 003 eqs. 1-4) with the
+//! - [`EdgeEdgeBarrier`]: `kappa b(d, a, eta)` (docs/MODEL.md, "Thickness contact") with the
 //!   per-stencil `(a, eta)` chosen by the filter.
 //! - [`EdgeEdgePenalty`]: `k/2 (h - d)^2` for `d < h`, the stiff penalty of
-//!   the older yarn models (seed 000 uses penalties for external contact); it
+//!   the older yarn models (penalties for external contact); it
 //!   lets yarns interpenetrate under load, which is what the comparison shows.
 
 use super::barrier::BarrierShape;

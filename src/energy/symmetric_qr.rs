@@ -12,7 +12,7 @@
 //! ones alternately fills it (about 20% less time per 8x8 block, measured
 //! by `examples/assembly_costs`). A faster *different* algorithm would
 //! round differently, and the float patterns' iteration counts are chaotic
-//! in the last bit (docs/RELAX.md sections 14 and 16: two exact-in-theory
+//! in the last bit (docs/RELAX.md, "PSD projections": two exact-in-theory
 //! projections lengthened the 40x40 runs). So this port keeps every
 //! floating-point operation of nalgebra 0.35 in its order; only storage,
 //! loop bounds and control flow change. The tests compare it with nalgebra

@@ -1,8 +1,8 @@
 //! Smooth centre lines for drawing: centripetal Catmull-Rom through the yarn
 //! points.
 //!
-//! The simulation's centre line is a polyline (MODEL.md sec. 1: linear
-//! interpolation between nodes), but a tube around a coarse polyline shows
+//! The simulation's centre line is a polyline (docs/MODEL.md, "Kinematics":
+//! linear interpolation between nodes), but a tube around a coarse polyline shows
 //! kinks at every node. The drawn curve therefore interpolates the same
 //! points with a C1 spline. We use the *centripetal* parametrisation
 //! (knot spacing `|P_{i+1} - P_i|^alpha`, `alpha = 1/2`; Yuksel, Schaefer and

@@ -25,7 +25,8 @@ use super::source::{Pos, Result, Source};
 #[derive(Clone, Debug, PartialEq)]
 pub struct Limits {
     /// Consecutive rows a column may be slipped or tucked (held) before it is
-    /// knitted again. Three rows is already a long slip (seed 000, Fig. 3).
+    /// knitted again. Three rows is already a long slip (the long slips of *Robust
+    /// Eulerian-on-Lagrangian Rods*, Fig. 3).
     pub max_held_rows: usize,
     /// Consecutive tucks in a column; tuck loops pile up on the needle.
     pub max_stacked_tucks: usize,

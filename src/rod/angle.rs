@@ -1,6 +1,6 @@
 //! Angle energies between two edge vectors, with exact finite derivatives.
 //!
-//! Bending (seed 000 eq. 4) and shear need `f(theta)` for the angle `theta`
+//! Bending (docs/MODEL.md, "Bending") and shear need `f(theta)` for the angle `theta`
 //! between vectors `a` and `b`. Differentiating `theta` directly divides by
 //! `sin(theta)`, which is 0/0 for straight yarns although `theta^2` is smooth
 //! there. Instead, every energy is written as `F(c) = f(acos(c))` of the

@@ -1,4 +1,4 @@
-//! Bending at an interior EoL node (seed 000 eq. 4, rewritten from Cirio 2014):
+//! Bending at an interior EoL node (docs/MODEL.md, "Bending"):
 //!
 //! ```text
 //! Vb = kb (theta - theta_rest)^2 / (du1 + du2)
@@ -37,8 +37,8 @@ pub enum BendingHessian {
     Eigen,
     /// The closed-form model of `bending_psd`: Gauss-Newton part plus the
     /// positive eigenpairs of the angle's curvature, no eigen-decomposition.
-    /// Stiffer than `Eigen` wherever the two differ; docs/RELAX.md
-    /// section 16 measures what that does to a relaxation.
+    /// Stiffer than `Eigen` wherever the two differ; docs/RELAX.md,
+    /// "Bending Hessian", measures what that does to a relaxation.
     Split,
 }
 
@@ -329,7 +329,7 @@ mod tests {
     #[test]
     fn value_alone_has_the_bits_of_evaluate() {
         // The line search calls `value`, assembly `evaluate`: a last-bit
-        // difference would change the relaxation path (docs/RELAX.md).
+        // difference would change the relaxation path (docs/RELAX.md, "PSD projections").
         let mut rng = Rng::new(12);
         let stencils = [Bending::new(2.0), Bending::with_rest_angle(2.0, 0.7)];
         for k in 0..200 {

@@ -4,7 +4,7 @@
 //! Why: the general projection (`energy::psd::project_psd_reduced`, an 8x8
 //! symmetric eigen-decomposition per node triple) was 28 of the 60 ms that
 //! one Newton assembly of a 40x40 linen stitch took on two threads
-//! (`examples/assembly_costs.rs`, docs/RELAX.md section 16): more than
+//! (`examples/assembly_costs.rs`, docs/RELAX.md, "Bending Hessian"): more than
 //! every other term together. Almost every bend is indefinite, so the
 //! cheap "already PSD" test in front of it rarely helps.
 //!
@@ -44,7 +44,7 @@
 //!
 //! Opt-in (`SimParams::bending_hessian = split`, `knitsim relax
 //! --bending-hessian split`): a different PSD model is a different Newton
-//! path. Measured (docs/RELAX.md section 16), it makes an iteration 20 to
+//! path. Measured (docs/RELAX.md, "Bending Hessian"), it makes an iteration 20 to
 //! 30% cheaper and relaxations deeper and more repeatable, but float
 //! patterns take two to three times as many iterations to the test, so
 //! the default stays the eigen-decomposition.

@@ -1,7 +1,7 @@
 //! Damping as a term of the incremental potential.
 //!
 //! Implicit Euler minimises `E(q) = 1/(2 h^2) |q - q_pred|_M^2 + V(q)`
-//! (MODEL.md sec. 4). A viscous force `-D qdot` with `qdot = (q - q_n) / h`
+//! (docs/MODEL.md, "Incremental potential"). A viscous force `-D qdot` with `qdot = (q - q_n) / h`
 //! is the gradient of
 //!
 //! ```text

@@ -1,8 +1,9 @@
-//! EIL interpolation and the soft contact constraint (seed 000 sec. 3.3, 4.2).
+//! EIL interpolation and the soft contact constraint (docs/MODEL.md, "Kinematics" and
+//! "EIL constraint spring").
 //!
 //! An EIL point on a yarn has a free Eulerian coordinate `u` but no position
 //! of its own: it sits on the chord between its yarn's neighbouring non-EIL
-//! nodes `(x_a, u_a)` and `(x_c, u_c)` (seed 000 eq. 3),
+//! nodes `(x_a, u_a)` and `(x_c, u_c)`,
 //!
 //! ```text
 //! x_eil = ((u_c - u) x_a + (u - u_a) x_c) / (u_c - u_a) = x_a + s (x_c - x_a)
@@ -11,7 +12,8 @@
 //!
 //! Its contact with the partner yarn is a zero-rest-length spring
 //! `1/2 kc |x_eil - x_partner|^2`, `kc = kc_factor * ks / du_rest`
-//! (`RodParams::contact_stiffness`; seed 000 uses 1000). The partner is an
+//! (`RodParams::contact_stiffness`; *Robust Eulerian-on-Lagrangian Rods*
+//! uses a factor of 1000). The partner is an
 //! EoL node ([`EilToPoint`]) or another EIL point ([`EilToEil`], both yarns
 //! degenerate at the same contact).
 //!
@@ -51,7 +53,7 @@ fn span(q: &SVector<f64, 9>) -> (Vector3<f64>, f64, f64) {
     (d, du, (q[U] - q[UA]) / du)
 }
 
-/// The interpolated position `x_eil` (seed 000 eq. 3).
+/// The interpolated position `x_eil`.
 pub fn eil_position(q: &SVector<f64, 9>) -> Vector3<f64> {
     let (d, _, s) = span(q);
     q.fixed_rows::<3>(XA) + d * s

@@ -1,4 +1,5 @@
-//! Sliding friction on an Eulerian coordinate (Cirio 2014; seed 000 sec. 4.2).
+//! Sliding friction on an Eulerian coordinate (docs/MODEL.md, "Friction
+//! anchors").
 //!
 //! Each Eulerian coordinate of a contact (both yarns' `u` at an EoL contact,
 //! the free `u` of an EIL point) is tied to an anchor by a spring of

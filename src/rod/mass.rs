@@ -1,4 +1,4 @@
-//! Mass matrix of an EoL segment (MODEL.md sec. 1; Cirio 2014, Sueda 2011).
+//! Mass matrix of an EoL segment (docs/MODEL.md, "Segment mass matrix").
 //!
 //! On a segment `a-b` with `s in [0, 1]`, a fixed material point moves with
 //!
@@ -21,7 +21,7 @@
 //! the segment's own direction at the material speed) moves no material.
 //! The solver treats it as constant within a step (evaluated at the start)
 //! and sums segments between consecutive non-EIL nodes only; EIL points carry
-//! no mass (seed 000 sec. 4.3).
+//! no mass.
 
 use nalgebra::{Matrix4, SMatrix, SVector};
 

@@ -1,4 +1,4 @@
-//! Parallel-yarn contact (Cirio 2014; seed 000 sec. 4.2).
+//! Parallel-yarn contact (docs/MODEL.md, "Parallel-yarn contact").
 //!
 //! Two consecutive contacts on one yarn are two other yarns crossing it.
 //! They cannot come closer along it than a yarn diameter `D`, unless they can
@@ -11,8 +11,8 @@
 //! which is C1 at `u2 - u1 = D` (value and force vanish there); the Hessian
 //! steps from `kp` to 0, which Newton tolerates.
 //!
-//! [`parallel_enabled`] decides whether the pair gets the penalty (seed 000
-//! sec. 4.2): never for external contacts (another fabric may pass), and not
+//! [`parallel_enabled`] decides whether the pair gets the penalty (docs/MODEL.md,
+//! "Parallel-yarn contact"): never for external contacts (another fabric may pass), and not
 //! when the two crossing yarns lie on opposite sides of this yarn unless one
 //! of them bends around it. "Bends around" is tested with the bending
 //! vector, the average of the unit directions from the contact node to the
@@ -24,7 +24,7 @@
 use crate::energy::Stencil;
 use nalgebra::{SMatrix, SVector, Vector3};
 
-/// Seed 000's bend-vector threshold.
+/// The bend-vector threshold (0.25, from *Robust Eulerian-on-Lagrangian Rods*).
 pub const BEND_THRESHOLD: f64 = 0.25;
 
 /// Parallel-contact penalty on `[u1, u2]` (N = 2), `u1` the earlier contact.
@@ -96,7 +96,7 @@ impl CrossingSide {
     }
 }
 
-/// Whether two consecutive contacts on a yarn repel each other (seed 000 sec. 4.2).
+/// Whether two consecutive contacts on a yarn repel each other (docs/MODEL.md, "Parallel-yarn contact").
 pub fn parallel_enabled(first: &CrossingSide, second: &CrossingSide) -> bool {
     if first.external || second.external {
         return false;

@@ -5,16 +5,17 @@
 //! relaxed fabric looks right and the Newton solve stays well conditioned:
 //!
 //! - `ks` is the axial stiffness `EA` (N). A loosely twisted wool yarn
-//!   stretches ~1% under 1 N, so `EA ~ 100 N`. Seed 000 eq. 2 gives a
-//!   segment stiffness `ks / du`.
-//! - `kb` is the bending rigidity `EI` (N m^2). Seed 000 eq. 4 is exactly the
+//!   stretches ~1% under 1 N, so `EA ~ 100 N`. The stretch energy
+//!   (docs/MODEL.md, "Stretch") gives a segment stiffness `ks / du`.
+//! - `kb` is the bending rigidity `EI` (N m^2). The bending energy (docs/MODEL.md, "Bending") is exactly the
 //!   discrete `1/2 EI integral kappa^2` with curvature `2 theta / (du1 + du2)`
 //!   integrated over the Voronoi length `(du1 + du2) / 2`, so `kb = EI`.
 //!   Measured yarn rigidities are 0.01-0.1 cN cm^2 (1e-8..1e-7 N m^2); with
 //!   `rho` below the bending length `(EI / rho g)^(1/3)` is about 2.7 cm, the
 //!   hand-feel of a soft wool yarn.
 //! - `kc_factor`: the EIL contact spring is `kc_factor * ks / du_rest`.
-//!   Seed 000 (sec. 4.2) uses 1000; the default here is 10. Every EoL/EIL
+//!   *Robust Eulerian-on-Lagrangian Rods* uses 1000; the default here
+//!   is 10 (docs/MODEL.md, "EIL constraint spring"). Every EoL/EIL
 //!   transition starts that spring off its rest by up to a sagitta (~0.1 mm
 //!   at a stitch), and at 1000 that is ~0.4 J against a relaxed 8x8 linen
 //!   stitch's 7e-3 J: a quasi-static relaxation spends whole Newton solves
@@ -91,7 +92,7 @@ impl Default for RodParams {
 }
 
 impl RodParams {
-    /// EIL contact spring stiffness `kc = kc_factor * ks / du_rest` (MODEL.md sec. 3).
+    /// EIL contact spring stiffness `kc = kc_factor * ks / du_rest` (docs/MODEL.md, "EIL constraint spring").
     pub fn contact_stiffness(&self, du_rest: f64) -> f64 {
         self.kc_factor * self.ks / du_rest
     }

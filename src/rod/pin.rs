@@ -8,7 +8,7 @@
 //! - **Hard pin**: the pinned coordinates are not unknowns. The solver keeps
 //!   the system size fixed and cancels their rows and columns (identity on
 //!   the diagonal, zero right-hand side), exactly as for the Lagrangian DOFs
-//!   of EIL nodes (seed 000 sec. 4.3, MODEL.md sec. 4), after setting them to
+//!   of EIL nodes (docs/MODEL.md, "Fixed system size"), after setting them to
 //!   the target. That is the lead's assembly; no stencil is involved.
 
 use crate::energy::Stencil;

@@ -1,4 +1,4 @@
-//! Shear at a yarn crossing, with jamming (Cirio 2014).
+//! Shear at a yarn crossing, with jamming (docs/MODEL.md, "Crossing shear").
 //!
 //! Two yarns crossing at a contact can rotate about it (the in-plane shear of
 //! a woven or knitted fabric). The angle `alpha` between their tangents is

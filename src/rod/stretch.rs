@@ -1,4 +1,4 @@
-//! Stretch of an EoL segment (seed 000 eq. 2; Cirio 2014):
+//! Stretch of an EoL segment (docs/MODEL.md, "Stretch"):
 //!
 //! ```text
 //! Vs = 1/2 ks du (|dx| / du - 1)^2 = ks (l - du)^2 / (2 du)
@@ -21,7 +21,7 @@
 //! energy: the subgradient 0 is returned for the direction term and the
 //! Hessian `ks/du I`, the second derivative along every line through the
 //! cone. `du <= 0` is outside the model (consecutive EoL nodes are at least
-//! the EIL threshold apart, MODEL.md sec. 2): the value is `+inf` so a line
+//! the EIL threshold apart, docs/MODEL.md, "Node assignment"): the value is `+inf` so a line
 //! search rejects the step, and the derivatives are zero.
 
 use crate::energy::Stencil;

@@ -1,4 +1,5 @@
-//! Wrapping at a stitch contact (Cirio 2017; MODEL.md sec. 3 and 7).
+//! Wrapping at a stitch contact (docs/MODEL.md, "Wrapping" and
+//! "Stitch contact layout").
 //!
 //! A stitch contact is two EoL contact nodes `P` and `Q` shared by yarn A
 //! (say the parent loop's head) and yarn B (the child's leg). Between them

@@ -1,4 +1,4 @@
-//! Per-step EoL/EIL node assignment (seed 000, sec. 4.1; MODEL.md sec. 2).
+//! Per-step EoL/EIL node assignment (docs/MODEL.md, "Node assignment").
 //!
 //! Each step, before the first Newton iteration, every yarn's points are
 //! sorted by their current `u` and walked in order. A point closer in `u`
@@ -15,7 +15,7 @@ use crate::topology::{Fabric, PointRef};
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct AssignParams {
-    /// Safety distance as a fraction of the rest segment length (0.1 in seed 000).
+    /// Safety distance as a fraction of the rest segment length (0.1, docs/MODEL.md, "Node assignment").
     pub safety_fraction: f64,
     /// `false` disables EIL entirely (plain EoL), to show why EIL matters.
     pub enable_eil: bool,
@@ -30,7 +30,7 @@ pub struct AssignParams {
     /// real neighbour is this fraction of the rest segment (below
     /// `safety_fraction`, so the next re-assignment makes it EIL); 0 = no
     /// stop (the default; 0.05 is half the safety distance). Opt-in: see
-    /// `sim::slide_stops` and docs/RELAX.md section 8 for what it does to
+    /// `sim::slide_stops` and docs/RELAX.md, "Slide stops", for what it does to
     /// the relaxation.
     pub stop_fraction: f64,
     /// Within a relaxation step, a real segment shorter than this fraction

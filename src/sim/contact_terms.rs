@@ -1,17 +1,17 @@
-//! Non-persistent yarn-yarn contact in the simulator: seed 003's thickness
-//! barrier (MODEL.md sec. 5) wired into each Newton solve.
+//! Non-persistent yarn-yarn contact in the simulator: the filtered thickness
+//! barrier (docs/MODEL.md, "Thickness contact") wired into each Newton solve.
 //!
 //! **Modes** (`SimParams::contact`, scene key `"contact"`, CLI `--contact`):
-//! `none`, `penalty`, `barrier` (Li 2021), `culled` (Kaldor 2008, window
-//! `cull_window` segments) and `filtered` (seed 003 eqs. 1 and 4). A scene
+//! `none`, `penalty`, `barrier`, `culled` (a window of `cull_window`
+//! segments) and `filtered` (docs/MODEL.md, "Thickness contact"). A scene
 //! without a `"contact"` key has no non-persistent contact and builds
 //! nothing for it: no segment list, no broad phase, no CCD. A `"contact"`
 //! object without `"mode"` means `filtered`.
 //!
 //! **Segments.** The contact geometry is the rod's own: per yarn, the
 //! segments between consecutive non-EIL points (the stretch segments of
-//! `system.rs`). An EIL point is interpolated *on* such a segment (seed 000
-//! eq. 3), so it adds no geometry and needs no stencil of its own; when EIL
+//! `system.rs`). An EIL point is interpolated *on* such a segment (docs/MODEL.md,
+//! "Kinematics"), so it adds no geometry and needs no stencil of its own; when EIL
 //! points change, the segment list changes with the next step. Reference
 //! distances `dbar` are rest arc lengths, `|u_b - u_a|` at the current `u`
 //! (`contact::rest`), so a sliding contact keeps a consistent filter.
@@ -25,7 +25,7 @@
 //! **One candidate list per solve.** The Newton solver keeps one Hessian
 //! pattern per solve, but contact pairs come and go. At the start of a solve
 //! the broad phase lists every kept pair closer than `reach = h + margin`
-//! (seed 003 sec. 3.3: with the unfiltered thickness); each becomes a
+//! (with the unfiltered thickness, docs/MODEL.md, "Thickness contact"); each becomes a
 //! stencil (zero while farther than its activation). Any other pair started
 //! more than `reach` apart, and as long as no node moves more than
 //! `0.45 margin` from where the list was built it stays farther than `h`, so
@@ -35,7 +35,7 @@
 //! ([`minimize`]). The same cap includes additive CCD on every candidate
 //! pair, so no step can cross two segments (or pass inside a hard core).
 //!
-//! **Adaptive stiffness** (IPC, Li 2020 sec. 4.3): at the start of each
+//! **Adaptive stiffness** (as in IPC; docs/MODEL.md, "Thickness contact"): at the start of each
 //! solve kappa balances the elastic gradient against the barrier gradient
 //! in least squares, clamped to `[kappa_min, kappa_max]`, and never drops
 //! below the previous step's value. IPC derives `kappa_min` from the mass
@@ -101,10 +101,10 @@ pub struct ContactParams {
     /// Material thickness `h` (m); `None` = the thickest yarn's diameter
     /// (`SimParams::yarn_radii`; `2 rod.radius` when all yarns share it).
     pub thickness: Option<f64>,
-    /// Hard core `eta = core_fraction * h` of full-thickness pairs (seed 003
-    /// eq. 4; 0 = single phase).
+    /// Hard core `eta = core_fraction * h` of full-thickness pairs (docs/MODEL.md,
+    /// "Thickness contact"; 0 = single phase).
     pub core_fraction: f64,
-    /// Culling window (segments) of the `culled` mode; Kaldor's default 11.
+    /// Culling window (segments) of the `culled` mode; default 11.
     pub cull_window: u32,
     /// Exclusion radius around persistent EoL contacts, in units of `h`.
     pub eol_exclusion: f64,

@@ -6,7 +6,7 @@
 //! that are not unknowns right now (pinned nodes, fixed `u`, the node of a
 //! contact whose both points are EIL): the system keeps its size and sparsity
 //! pattern while points switch between EoL and EIL, and those rows are simply
-//! cancelled (seed 000, sec. 4.3).
+//! cancelled (docs/MODEL.md, "Fixed system size").
 
 use crate::topology::{Fabric, PointRef, Vec3};
 

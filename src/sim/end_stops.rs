@@ -6,7 +6,7 @@
 //! the fixed-`u` end until it falls off. Measured before this term existed:
 //! the 8x8 variant of `fig3-jacquard` lost a contact off its yarn's start
 //! during relaxation. A designer's pattern never unravels from its tails,
-//! so relaxation must not either (issue 3, acceptance 5).
+//! so relaxation must not either.
 //!
 //! The stop is the parallel-contact penalty (`rod::parallel`) between the
 //! end's fixed `u` and the outermost contact point's `u`, at a distance of

@@ -1,8 +1,9 @@
-//! The inertia term of the incremental potential (MODEL.md sec. 4):
+//! The inertia term of the incremental potential (docs/MODEL.md,
+//! "Incremental potential"):
 //! `1/(2 h^2) |q - q_pred|_M^2` summed over segments between consecutive
-//! non-EIL points, with the EoL segment mass matrix (MODEL.md sec. 1)
+//! non-EIL points, with the EoL segment mass matrix (docs/MODEL.md, "Segment mass matrix")
 //! evaluated at the start of the step and held constant. EIL points carry no
-//! mass, which is what makes their `u` obey statics (seed 000 eqs. 5-6).
+//! mass, which is what makes their `u` obey statics.
 
 use crate::energy::Stencil;
 use nalgebra::{SMatrix, SVector};

@@ -19,7 +19,7 @@ const RADII: [f64; 3] = [0.5 * MM, 1.0 * MM, 0.3 * MM];
 /// Yarn 0 (spec 0) runs along x from 0 to 12 mm. Yarns 1 and 2 (specs 1
 /// and 2) cross behind it at x = 5 and 6 mm, running along y from -5 to
 /// 5 mm: two consecutive contacts on yarn 0 with the crossing yarns on the
-/// same side, which the parallel-contact rule (seed 000 sec. 4.2) keeps
+/// same side, which the parallel-contact rule (docs/MODEL.md, "Parallel-yarn contact") keeps
 /// apart.
 fn two_crossings() -> Fabric {
     let v = |x: f64, y: f64, z: f64| Vec3::new(x * MM, y * MM, z * MM);

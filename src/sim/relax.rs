@@ -1,4 +1,5 @@
-//! Quasi-static relaxation: the pattern's equilibrium (MODEL.md sec. 4).
+//! Quasi-static relaxation: the pattern's equilibrium (docs/RELAX.md;
+//! docs/MODEL.md, "Incremental potential").
 //!
 //! A sequence of implicit steps with zero predicted velocity: each step is a
 //! proximal Newton solve `min V(q) + 1/(2h^2) |q - q_k|_M^2`, which keeps the
@@ -25,14 +26,14 @@
 //! 100 N/m of bending), and each step is close to Newton on `V` with the
 //! friction anchors and the EIL assignment refreshed in between. Other
 //! starting steps change which equilibrium a stockinette lands in, not how
-//! fast the float patterns get there (docs/RELAX.md, "What was tried and
-//! dropped", session 16).
+//! fast the float patterns get there (docs/RELAX.md,
+//! "Pseudo-transient continuation").
 //!
 //! A step also ends early at the first iterate where a real segment has
 //! closed to `assign.close_fraction` (1e-5) of a rest segment
 //! (`sim::tripwire`): the next re-assignment makes that point EIL, where
 //! iterating on would only stiffen the closed segment's stretch without
-//! bound (docs/RELAX.md section 12).
+//! bound (docs/RELAX.md, "Closed segments").
 //!
 //! The equilibrium test also runs inside each step, at every Newton
 //! iterate (`NewtonParams::max_force_tol`). The steps of the float patterns
@@ -49,8 +50,8 @@
 //! releases came in waves that took half of the seeds to 770 to 830 Newton
 //! iterations, where five seeds without releases took 166 to 252. It is
 //! not the default because on the 80x80 stockinette it was no better (two
-//! seeds: 582 and 550 iterations against 200 and 467; docs/RELAX.md
-//! section 15).
+//! seeds: 582 and 550 iterations against 200 and 467; docs/RELAX.md,
+//! "Keeping EIL points").
 
 use super::simulation::{SimError, Simulation};
 use crate::solver::newton::IterStats;

@@ -1,5 +1,5 @@
 //! Removing a persistent contact whose material coordinate has left its
-//! yarn (MODEL.md sec. 2 item 7; seed 000 sec. 5).
+//! yarn (docs/MODEL.md, "Contact removal").
 //!
 //! Why it is needed: a contact's `u` slides. When a yarn is pulled through a
 //! crossing until its tail passes the other yarn, the contact's `u` on that

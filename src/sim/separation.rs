@@ -1,7 +1,6 @@
 //! Removing a persistent contact whose normal force pulls its yarns
-//! together instead of pushing them apart (MODEL.md sec. 2 item 7, the sign
-//! test; seed 000 sec. 5 and Fig. 6, where a buckling neck tag separates
-//! from the shirt).
+//! together instead of pushing them apart (docs/MODEL.md, "Contact removal":
+//! the sign test, as for a buckling tag that lifts off a shirt).
 //!
 //! Why it needs state of its own: both yarns of a contact share one node,
 //! so the node's position says nothing about which side each yarn is on.

@@ -1,9 +1,9 @@
 //! Time stepping and quasi-static relaxation of an EoL fabric.
 //!
-//! One step (seed 000 sec. 4): re-assign EIL points, initialise the nodes
+//! One step (docs/MODEL.md, "Solver"): re-assign EIL points, initialise the nodes
 //! that come back from EIL from the contact constraint, build the stencils,
 //! and minimise the incremental potential with Newton. A failed solve halves
-//! the step and retries; successes let it grow back (MODEL.md sec. 4).
+//! the step and retries; successes let it grow back (docs/MODEL.md, "Adaptive step").
 //! Contacts whose `u` left a yarn are removed before the assignment
 //! (`sim::removal`). The Coulomb limits of the friction springs are taken
 //! from the state at the start of each step; after an accepted step the
@@ -219,7 +219,7 @@ impl Simulation {
     /// Points whose kind (real or EIL) the next re-assignment would
     /// change. A relaxed state is an equilibrium under its current
     /// assignment; when this is not 0, the next step would start from a
-    /// different discretization (docs/RELAX.md, "Still open").
+    /// different discretization (docs/RELAX.md, "Open problems").
     pub fn pending_kind_changes(&self) -> usize {
         let next = self.next_assignment();
         next.eil
@@ -370,7 +370,7 @@ impl Simulation {
 }
 
 /// Position of a point under an assignment: its node, or the interpolation
-/// between its real neighbours (seed 000 eq. 3) when it is EIL.
+/// between its real neighbours (docs/MODEL.md, "Kinematics") when it is EIL.
 pub fn interpolated(f: &Fabric, l: &DofLayout, a: &Assignment, q: &[f64], p: PointRef) -> nalgebra::Vector3<f64> {
     let pt = &f.yarns[p.yarn].points[p.point];
     if !a.is_eil(l, p) {

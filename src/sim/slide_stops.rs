@@ -2,7 +2,7 @@
 //! real points, for Newton's projected step
 //! ([`Problem::bounds`](crate::solver::newton::Problem::bounds)).
 //!
-//! Why: the EIL mechanism (seed 000, sec. 4.1) keeps every real segment at
+//! Why: the EIL mechanism (docs/MODEL.md, "Node assignment") keeps every real segment at
 //! least the safety distance long, but only at the start of a step. Within
 //! a step nothing else stops a contact's `u` from running onto its real
 //! neighbour, and the stretch term `|dx|^2 / du` of the closing segment
@@ -12,8 +12,8 @@
 //! moved in its third digit, until the step's iteration cap let the re-assignment
 //! turn that point EIL. With stops, a real point may slide until its
 //! segment is `stop_fraction` of the rest segment (0.05, half the safety
-//! distance, when a scene turns them on; off by default, see docs/RELAX.md
-//! section 8) and is held there; the next re-assignment finds it inside
+//! distance, when a scene turns them on; off by default, see docs/RELAX.md,
+//! "Slide stops") and is held there; the next re-assignment finds it inside
 //! the safety distance and hands it to EIL, as the seed intends.
 //!
 //! Two sliding neighbours share their gap: each may take half of what is

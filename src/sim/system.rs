@@ -1,10 +1,10 @@
 //! The stencils of one step, for the current EoL/EIL discretization.
 //!
 //! Per yarn, the sorted non-EIL ("real") points define the rod: stretch and
-//! inertia per pair, bending per triple (seed 000 sec. 4.2: EIL points are
+//! inertia per pair, bending per triple (docs/MODEL.md, "Energies": EIL points are
 //! skipped, so a degenerate segment never enters an elastic term). Per
 //! contact, an EIL point gets the soft constraint to its partner through the
-//! interpolation (eq. 3). Wrapping, shear and parallel-contact terms act on
+//! interpolation. Wrapping, shear and parallel-contact terms act on
 //! real points only; when one of their points is EIL this step the term is
 //! left out for the step (documented simplification: those points are by
 //! construction within 10% of a segment from a real point).
@@ -400,7 +400,7 @@ fn obstacle_terms(disc: &Discretization, p: &SimParams, radii: &[f64]) -> (Vec<O
 }
 
 /// Parallel-yarn contact between consecutive contact points on a yarn,
-/// with the enable rules of seed 000 sec. 4.2. The two crossing yarns keep
+/// with the enable rules of docs/MODEL.md, "Parallel-yarn contact". The two crossing yarns keep
 /// their centre lines the sum of their radii apart along this one.
 fn parallel_terms(
     disc: &Discretization,

@@ -1,5 +1,5 @@
-//! State transfer when the EIL assignment changes (MODEL.md sec. 2, steps 5
-//! and 6).
+//! State transfer when the EIL assignment changes (docs/MODEL.md,
+//! "State transfer").
 //!
 //! A contact's two yarn points share one node while both are real. When one
 //! of them becomes EIL its `x` is no longer a DOF but the interpolation on
@@ -19,7 +19,7 @@
 //! - **both points EIL**: both `u` move to the closest points of the two
 //!   chords (what remains is the chords' distance, which only the real
 //!   nodes can close).
-//! - **an EIL point returns to real** (seed's EIL-to-EoL): if its partner
+//! - **an EIL point returns to real** (EIL to EoL): if its partner
 //!   was real the node is already where the constraint held it; if both
 //!   were EIL the node goes on the front yarn's new chord at its `u`.
 

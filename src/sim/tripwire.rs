@@ -2,7 +2,7 @@
 //! EIL at once" rule.
 //!
 //! Why: EIL keeps every real segment at least the safety distance long, but
-//! only at a step's start (seed 000, sec. 4.1: the assignment runs per time
+//! only at a step's start (docs/MODEL.md, "Node assignment": the assignment runs per time
 //! step). Within a relaxation step nothing else stops a contact's `u` from
 //! running onto its real neighbour, and once it has, the closed segment's
 //! stretch `ks |dx|^2 / du` makes the Newton matrix as stiff as `ks l^2 /
@@ -11,7 +11,7 @@
 //! matrix diagonal (median 2e5); the 13 iterations after the collapse
 //! lowered the energy from 2573.37 to 2573.28 J while the gradient norm
 //! grew from 4.4e4 to 1e9 .. 3e9 N, and their factorizations took 3.1 to
-//! 5.4 s against 0.9 to 1.1 s before (docs/RELAX.md, section 12). A step
+//! 5.4 s against 0.9 to 1.1 s before (docs/RELAX.md, "Closed segments"). A step
 //! that ends at the first iterate with a closed segment
 //! goes straight to the next re-assignment, which makes that point EIL.
 //!

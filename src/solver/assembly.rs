@@ -8,8 +8,8 @@
 //!   `free` mask says which rows are unknowns. Cancelled rows (pinned
 //!   coordinates, Lagrangian coordinates of an EIL node) get zero gradient
 //!   and an identity row and column, so the system size and the sparsity
-//!   pattern never change when a node switches (MODEL.md sec. 4, seed 000
-//!   sec. 4.3). Because the pattern ignores the mask, the direct solver's
+//!   pattern never change when a node switches (docs/MODEL.md,
+//!   "Fixed system size"). Because the pattern ignores the mask, the direct solver's
 //!   symbolic analysis survives EIL switches too.
 //! - **Precomputed value slots.** After the pattern is built, [`bind`] looks
 //!   up once, per stencil, where each of its `N*N` local entries lives in

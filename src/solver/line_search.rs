@@ -1,5 +1,5 @@
-//! Backtracking line search on the energy (MODEL.md sec. 4: "a line search,
-//! backtracking on E").
+//! Backtracking line search on the energy (docs/MODEL.md,
+//! "Line search").
 //!
 //! Armijo sufficient decrease, `E(q + a dq) <= E(q) + c1 a g.dq`, halving `a`
 //! from its start. The start is `min(1, max_step)` where `max_step` is the

@@ -2,7 +2,7 @@
 //!
 //! - [`assembly`]: stencils to a global gradient and sparse Hessian.
 //! - [`newton`] with [`line_search`]: minimisation of the incremental
-//!   potential over the free coordinates (MODEL.md sec. 4).
+//!   potential over the free coordinates (docs/MODEL.md, "Solver").
 //! - [`linear`]: the solvers for each Newton step.
 
 pub mod assembly;

@@ -1,5 +1,5 @@
 //! Projected Newton minimisation of `E(q)` over the free coordinates
-//! (MODEL.md sec. 4; seed 000 sec. 4.3).
+//! (docs/MODEL.md, "Newton iteration").
 //!
 //! One iteration: assemble `g` and the (per-stencil PSD-projected) Hessian
 //! `H`, solve `H dq = -g`, cap the step at the CCD bound, backtrack on `E`.
@@ -18,7 +18,7 @@
 //!   scaled by the curvature along `-g`. If the line search rejects a Newton
 //!   direction, steepest descent gets one more try before reporting failure.
 //!   A failure is a [`NewtonStatus`], not an error: the adaptive time step
-//!   (MODEL.md sec. 4) halves `h` on it.
+//!   (docs/MODEL.md, "Adaptive step") halves `h` on it.
 //! - **Adaptive damping.** Without inertia (quasi-static relaxation) the
 //!   projected Hessian is often singular: a compressed spring or a straight
 //!   rod has no transverse stiffness after PSD projection, so the Newton step

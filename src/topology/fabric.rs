@@ -3,7 +3,7 @@
 //!
 //! Why nodes and yarn points are separate: an EoL contact is *one* spatial
 //! position `x` seen by *two* yarns, each with its own material coordinate
-//! (Cirio 2014: "a 3D position and two sliding coordinates"). So a [`Node`]
+//! (docs/MODEL.md, "Kinematics": one position and two sliding coordinates). So a [`Node`]
 //! holds `x`, and each yarn keeps a list of [`YarnPoint`]s `(node, u)`. A
 //! Lagrangian node is referenced by one yarn point, a contact node by two.
 //!
@@ -55,7 +55,7 @@ pub struct YarnPoint {
     /// `u` is not a degree of freedom: yarn ends and resolution nodes.
     pub fixed_u: bool,
     /// This point is currently EIL: its `x` is interpolated from its
-    /// non-EIL neighbours on this yarn (seed 000, eq. 3).
+    /// non-EIL neighbours on this yarn (docs/MODEL.md, "Kinematics").
     #[serde(default, skip_serializing_if = "is_false")]
     pub eil: bool,
 }

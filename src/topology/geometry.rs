@@ -17,8 +17,8 @@
 //!   diagonal `A -> B` (outer-low to inner-high, `wrap_step` in x and y):
 //!   the head comes up from its own leg and leaves to its apex, the child
 //!   comes in from its sinker and leaves up its leg, so the two yarns share
-//!   the segment `A B` and swap sides along it (seed 000 / Cirio 2017: a
-//!   stitch contact is the two ends of that wrap);
+//!   the segment `A B` and swap sides along it (docs/MODEL.md, "Stitch contact
+//!   layout": a stitch contact is the two ends of that wrap);
 //! - **legs**: one point per row spanned at mid-row on the loop's side
 //!   (`+leg_z` knit, `-leg_z` purl and tuck); where floats cross, the crossing
 //!   nodes replace it and the leg bends away from the float just above and

@@ -13,7 +13,7 @@
 //! 4. [`thin`] (opt-in, `CompileOptions::shape_gap`): drop shape points
 //!    closer than a few yarn diameters to a contact.
 //!
-//! Contacts per structure (MODEL.md sec. 7):
+//! Contacts per structure (docs/MODEL.md, "Stitch contact layout"):
 //! - knit/purl child through each parent head: 2 stitch contacts (left and
 //!   right leg) of 2 nodes each, partners of each other: 4 [`ContactKind::Stitch`]
 //!   nodes per parent. A knit child is `front`, a purl child `back`.

@@ -12,7 +12,7 @@ use super::layout::LayoutOptions;
 #[derive(Clone, Debug, PartialEq)]
 pub struct CompileOptions {
     /// Munden's course constant `k_c = cpc * l` (courses per unit length times
-    /// loop length). Munden 1959, dry-relaxed plain knit: 5.0.
+    /// loop length). Dry-relaxed plain knit: 5.0 (docs/MODEL.md, "Real-fabric references").
     pub munden_kc: f64,
     /// Munden's wale constant `k_w = wpc * l`. Dry-relaxed plain knit: 3.8.
     pub munden_kw: f64,
@@ -20,8 +20,8 @@ pub struct CompileOptions {
     /// than Peirce's jammed loop (about 16.6 d), whatever the gauge claims.
     pub jammed_loop_diameters: f64,
     /// A slip-stitch float's rest length is `w * (1 + slip_float_slack)`:
-    /// it spans one stitch and bows around the elongated loop's legs. Seed 000
-    /// tunes exactly this to change how relaxed slip patterns look.
+    /// it spans one stitch and bows around the elongated loop's legs.
+    /// *Robust Eulerian-on-Lagrangian Rods* tunes exactly this to change how relaxed slip patterns look.
     pub slip_float_slack: f64,
     /// Same for a stranded-colourwork float over one stitch. Knitters keep
     /// strands loose so the fabric does not pucker.

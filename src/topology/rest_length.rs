@@ -1,7 +1,8 @@
 //! Rest lengths: how much yarn each loop and float gets, and the material
 //! coordinate `u` along each yarn.
 //!
-//! **Stitch (loop) length**, from Munden's relations (Munden 1959): in a
+//! **Stitch (loop) length**, from Munden's relations (docs/MODEL.md,
+//! "Real-fabric references"): in a
 //! relaxed plain knit the courses and wales per unit length are
 //! `cpc = k_c / l` and `wpc = k_w / l`, so with the gauge pitches
 //! `w = 1/wpc`, `h = 1/cpc` each alone predicts `l = k_w w` and `l = k_c h`.

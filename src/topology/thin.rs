@@ -3,9 +3,9 @@
 //! The layout draws every loop with shape points besides its contacts: a
 //! point per leg and row band, the apex, the sinkers, the turns at a flat
 //! fabric's edges, and the bends where a leg makes room for a float. They
-//! keep the starting yarns apart, and their `u` is fixed. MODEL.md calls
-//! them optional: Cirio 2017 and seed 000 discretize a knit by its contact
-//! nodes alone (four per stitch).
+//! keep the starting yarns apart, and their `u` is fixed. They are
+//! optional (docs/MODEL.md, "Stitch contact layout"): a knit can be
+//! discretized by its contact nodes alone (four per stitch).
 //!
 //! Around floats many of them sit closer than a yarn diameter, in rest
 //! length, to a contact (a leg's bends lie 0.3 mm from the float crossing
@@ -16,8 +16,8 @@
 //! linen stitch's unknowns, and its relaxation took 100 to 160 Newton
 //! iterations over eight seeds instead of 117 to 380, each about half as
 //! expensive. The relaxed fabric's width and height moved by 1 to 6%, but
-//! it curls out of plane 1.3 to 1.8 times as far (docs/RELAX.md section
-//! 11), so this is a choice the user makes, not the default. Patterns
+//! it curls out of plane 1.3 to 1.8 times as far (docs/RELAX.md,
+//! "Shape gap"), so this is a choice the user makes, not the default. Patterns
 //! without floats (stockinette, garter, ribs, seed) have no shape point
 //! that close to a contact and come out unchanged.
 

@@ -242,7 +242,8 @@ pub fn arc_length(x: &[Vec3]) -> f64 {
     x.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
 
-/// Yarn parameters of seed 003's polyester tests, elastic terms plus the
+/// Yarn parameters of the polyester tests of *Unlocking Thickness Modeling
+/// for Codimensional Contact Simulation*, elastic terms plus the
 /// chosen contact mode, no gravity, no friction.
 pub fn yarn_params(radius: f64, mode: ContactModeName, cull_window: u32) -> SimParams {
     let mut p = SimParams {

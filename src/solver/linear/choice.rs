@@ -6,7 +6,7 @@
 //!   Below that the sparse Cholesky wins: one solve of ~0.05 s at 5K
 //!   unknowns, against ~2000 f32 CG iterations whose cost on a GPU is
 //!   dominated by dispatch and readback latency. The Cholesky's fill grows
-//!   superlinearly (0.05 s at 5K, 2.9 s at 45K on the 2-core sandbox), CG's
+//!   superlinearly (0.05 s at 5K, 2.9 s at 45K on the 2-core development machine), CG's
 //!   memory-bound iterations linearly; docs/GPU.md "Auto threshold" gives
 //!   the estimate and the measurements behind it;
 //! - an adapter opens, and it is real hardware: a software adapter (Mesa's

@@ -1,5 +1,5 @@
 //! Sparse direct solver: faer's supernodal/simplicial Cholesky on the lower
-//! triangle of the Newton matrix (MODEL.md sec. 4, "Linear solves").
+//! triangle of the Newton matrix (docs/MODEL.md, "Linear solvers").
 //!
 //! Design decisions:
 //! - **Symbolic analysis once per pattern.** The fill-reducing ordering
@@ -229,7 +229,7 @@ impl DirectSolver {
         // (40x40 linen stitch) is mapped page by page on its first
         // factorization; those were 37% of a relaxation's page faults
         // (`perf record -e page-faults`), though the wall time saved is
-        // within the sandbox's noise.
+        // within the development machine's noise.
         refill_zeros(&mut self.lower_values, lower.row_idx.len());
         refill_zeros(&mut self.factor_values, symbolic.len_val());
         let supernodal = match (symbolic.raw(), symbolic.perm()) {
@@ -455,7 +455,7 @@ impl DirectSolver {
     /// spans 1e5 .. 1e22 (a real segment closing within a step) and sent
     /// every such iteration to a shifted retry, where a shift sized to the
     /// largest diagonal swamped every ordinary unknown (docs/RELAX.md,
-    /// section 12).
+    /// "Residual probe").
     fn passes_residual_probe(&self, a: &CsrMatrix, kind: FactorKind) -> bool {
         let n = a.n;
         if n == 0 {

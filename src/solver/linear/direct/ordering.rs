@@ -10,8 +10,7 @@
 //! group's unknowns kept together, is a different heuristic on the same
 //! matrix. On the first Newton matrix of a relaxation neither wins
 //! everywhere: grouped AMD gives a stockinette's factor 25 to 30% fewer
-//! entries, and a linen stitch's 8 to 17% more (`docs/RELAX.md`, "Ordering
-//! by node", measured with `examples/bench_linear.rs --orderings`),
+//! entries, and a linen stitch's 8 to 17% more (docs/RELAX.md, "Ordering", measured with `examples/bench_linear.rs --orderings`),
 //! so [`super::DirectSolver`] analyses both once per pattern and keeps the
 //! one with the smaller factor. Both are deterministic, and an analysis is
 //! cheap next to the numeric factorizations that reuse it.
@@ -77,7 +76,7 @@ pub fn grouped_amd(col_ptr: &[usize], row_idx: &[usize], groups: &[u32]) -> Opti
     // each would split its group's columns into separate supernodes: on a
     // 40x40 linen stitch that made the numeric factorizations of the first
     // two steps 1.5 to 2.6 times slower with a factor 27% smaller
-    // (docs/RELAX.md section 10).
+    // (docs/RELAX.md, "Ordering").
     let mut coupled = vec![false; n];
     for j in 0..n {
         for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {

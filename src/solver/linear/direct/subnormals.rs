@@ -6,8 +6,8 @@
 //! geometrically along the elimination tree until it is subnormal. x86
 //! runs every operation on a subnormal through microcode, tens of times
 //! slower. Measured on the 40x40 linen stitch's second relaxation step
-//! (a scratch example timing every factorization; docs/RELAX.md
-//! section 13): the damped
+//! (a scratch example timing every factorization; docs/RELAX.md,
+//! "Subnormals"): the damped
 //! numeric factorizations took 0.30 to 0.38 s against 0.12 to 0.16 s for
 //! the same pattern undamped, and 0.12 to 0.16 s damped with flushing;
 //! every iterate was the same to the printed digits. The values lost are

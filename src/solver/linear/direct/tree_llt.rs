@@ -15,7 +15,7 @@
 //! through faer's dense routines, each product over at most 512 of the
 //! descendant's columns at a time as faer's x86 kernel forms it. So the
 //! factor is faer's bit for bit (tests; 16% less time per 40x40 linen
-//! relaxation, docs/RELAX.md section 17), and it does not depend on the
+//! relaxation, docs/RELAX.md, "Parallel factorization"), and it does not depend on the
 //! number of threads or on which worker took which supernode.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
