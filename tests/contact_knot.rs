@@ -1,4 +1,5 @@
-//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*, Fig. 4 (knot test): a 0.3 mm thick knotted yarn, 55 mm long,
+//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*,
+//! Fig. 4 (knot test): a 0.3 mm thick knotted yarn, 55 mm long,
 //! pulled from both ends, at 30, 60 and 120 segments. The filtered barrier
 //! must tighten the knot without any segment ever passing through another;
 //! the contact-culled model (window 5, as in the knot test of *Unlocking Thickness Modeling for

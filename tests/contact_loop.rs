@@ -1,4 +1,5 @@
-//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*, Fig. 12 (loop test): a 0.5 mm thick yarn, 55 mm long, with one
+//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*,
+//! Fig. 12 (loop test): a 0.5 mm thick yarn, 55 mm long, with one
 //! tight loop whose crossing strands are close to touching, relaxed to
 //! equilibrium with its ends pinned. The resolution (0.275 mm segments) is
 //! finer than the thickness. Filtered: the loop neither expands (the yarn

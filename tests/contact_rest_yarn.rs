@@ -1,4 +1,5 @@
-//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*, Fig. 2: a 5 cm yarn at rest, resolution finer than its
+//! *Unlocking Thickness Modeling for Codimensional Contact Simulation*,
+//! Fig. 2: a 5 cm yarn at rest, resolution finer than its
 //! thickness, with only elastic and contact forces. The plain barrier sees
 //! neighbouring segments inside the thickness and pushes the yarn longer
 //! (contact locking); the filtered barrier must exert no force at all and

@@ -68,7 +68,9 @@ impl Default for ThicknessParams {
 }
 
 impl ThicknessParams {
-    /// As in the appendix of *Unlocking Thickness Modeling for Codimensional Contact Simulation*: the core used for the Barrier and Culled
+    /// As in the appendix of
+    /// *Unlocking Thickness Modeling for Codimensional Contact Simulation*:
+    /// the core used for the Barrier and Culled
     /// comparisons, which fail at the first solve with a larger one.
     pub fn comparison_core(&self, dbar_min: f64) -> f64 {
         0.9 * self.thickness.min(dbar_min)

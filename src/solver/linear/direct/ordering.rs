@@ -10,7 +10,8 @@
 //! group's unknowns kept together, is a different heuristic on the same
 //! matrix. On the first Newton matrix of a relaxation neither wins
 //! everywhere: grouped AMD gives a stockinette's factor 25 to 30% fewer
-//! entries, and a linen stitch's 8 to 17% more (docs/RELAX.md, "Ordering", measured with `examples/bench_linear.rs --orderings`),
+//! entries, and a linen stitch's 8 to 17% more (docs/RELAX.md, "Ordering",
+//! measured with `examples/bench_linear.rs --orderings`),
 //! so [`super::DirectSolver`] analyses both once per pattern and keeps the
 //! one with the smaller factor. Both are deterministic, and an analysis is
 //! cheap next to the numeric factorizations that reuse it.
