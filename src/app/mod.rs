@@ -4,6 +4,8 @@
 
 pub mod input;
 pub mod relax_job;
+pub mod summary;
 
 pub use input::{load_fabric, InputError, Loaded};
 pub use relax_job::{run_relax, RelaxJob, RelaxOutcome};
+pub use summary::Summary;

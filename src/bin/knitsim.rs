@@ -67,7 +67,9 @@ enum Command {
         /// releases between steps; docs/RELAX.md, "Keeping EIL points").
         #[arg(long)]
         keep_eil: bool,
-        /// Static residual tolerance (largest free force / axial stiffness).
+        /// Stopping tolerance: the largest free force over the force scale
+        /// (a loop's bending force kb / l^2, or its weight with gravity on;
+        /// docs/RELAX.md, "Stopping test").
         #[arg(long, default_value_t = RelaxOptions::default().tol)]
         tol: f64,
         #[arg(long, default_value_t = RelaxOptions::default().max_steps)]
@@ -251,7 +253,7 @@ fn relax(
     };
     let outcome = run_relax(fabric, job, Some(&cancel), &mut |k, r| {
         bar.set_position(k as u64);
-        bar.set_message(format!("residual {r:.3e}"));
+        bar.set_message(format!("largest force {r:.3e} x scale"));
     })?;
     bar.finish_and_clear();
     let r = &outcome.report;
@@ -288,9 +290,10 @@ fn relax(
     } else {
         "NOT converged"
     };
+    println!("{}", outcome.summary.gauge_line());
     println!(
-        "final residual {:.3e} ({state}, tol {:.1e}), wall time {:.2} s",
-        r.residual, options.tol, outcome.wall_s
+        "largest free force {:.3e} x force scale {:.2e} N ({state}, tol {:.1e}), energy {:.4e} J, wall time {:.2} s",
+        r.residual, r.force_scale.value, options.tol, outcome.summary.energy, outcome.wall_s
     );
     Ok(())
 }

@@ -11,6 +11,7 @@ pub mod assignment;
 pub mod contact_terms;
 pub mod dofs;
 pub mod end_stops;
+pub mod force_scale;
 pub mod friction;
 pub mod inertia;
 pub mod params;
@@ -25,6 +26,7 @@ pub mod transfer;
 pub mod tripwire;
 
 pub use contact_terms::{ContactModeName, ContactParams};
+pub use force_scale::ForceScale;
 pub use params::{SimParams, Terms, YarnRadii};
 pub use relax::{configure as configure_relax, relax, RelaxOptions, RelaxReport};
 pub use separation::SeparationParams;

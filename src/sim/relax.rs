@@ -5,8 +5,9 @@
 //! proximal Newton solve `min V(q) + 1/(2h^2) |q - q_k|_M^2`, which keeps the
 //! early iterations well-posed (the mass term regularises rigid modes and
 //! the wildly unbalanced compiled geometry) and becomes plain Newton on `V`
-//! as `h` grows. Converged when the static residual (largest free force
-//! over the axial stiffness) is below `tol`.
+//! as `h` grows. Converged when the static residual, the largest free
+//! force over the scene's force scale ([`ForceScale`]: a loop's bending
+//! force, or its weight with gravity on), is below `tol`.
 //!
 //! The schedule is pseudo-transient continuation: `h` starts small, where
 //! the proximal term dominates the compiled geometry's large unbalanced
@@ -53,13 +54,15 @@
 //! seeds: 582 and 550 iterations against 200 and 467; docs/RELAX.md,
 //! "Keeping EIL points").
 
+use super::force_scale::ForceScale;
 use super::simulation::{SimError, Simulation};
 use crate::solver::newton::IterStats;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(Clone, Copy, Debug)]
 pub struct RelaxOptions {
-    /// Static residual tolerance (force / axial stiffness).
+    /// Stopping tolerance: the largest free force over the scene's force
+    /// scale ([`ForceScale`], docs/RELAX.md, "Stopping test").
     pub tol: f64,
     pub max_steps: usize,
     /// Newton iterations per proximal step; a step that stops at the cap
@@ -82,7 +85,7 @@ pub struct RelaxOptions {
 impl Default for RelaxOptions {
     fn default() -> Self {
         RelaxOptions {
-            tol: 1e-3,
+            tol: 100.0,
             max_steps: 100,
             newton_per_step: 20,
             h_initial: 1e-3,
@@ -97,7 +100,11 @@ impl Default for RelaxOptions {
 pub struct RelaxReport {
     pub steps: usize,
     pub newton_iterations: usize,
+    /// The largest free force over [`RelaxReport::force_scale`]: the
+    /// quantity `tol` is tested against.
     pub residual: f64,
+    /// The scale forces are measured against (N).
+    pub force_scale: ForceScale,
     pub converged: bool,
     pub cancelled: bool,
     pub max_eil: usize,
@@ -120,11 +127,14 @@ pub fn relax(
 ) -> Result<RelaxReport, SimError> {
     let saved = (sim.newton, sim.h, sim.h_min, sim.h_max, sim.params.assign);
     configure(sim, &opts);
+    let scale = ForceScale::of(&sim.fabric, &sim.params);
+    let ks = sim.params.rod.ks;
     let mut run = || -> Result<RelaxReport, SimError> {
         let mut rep = RelaxReport {
             steps: 0,
             newton_iterations: 0,
-            residual: sim.static_residual()?,
+            residual: scale.from_ks_units(sim.static_residual()?, ks),
+            force_scale: scale,
             converged: false,
             cancelled: false,
             max_eil: 0,
@@ -144,7 +154,7 @@ pub fn relax(
             rep.newton_iterations += s.newton_iterations;
             rep.max_eil = rep.max_eil.max(s.eil_count);
             rep.closed_segment_steps += usize::from(s.closed_segment);
-            rep.residual = sim.static_residual()?;
+            rep.residual = scale.from_ks_units(sim.static_residual()?, ks);
             on_step(rep.steps, rep.residual);
         }
         rep.converged |= rep.residual <= opts.tol;
@@ -165,7 +175,7 @@ pub fn configure(sim: &mut Simulation, opts: &RelaxOptions) {
     // The equilibrium test, in force units, at every Newton iterate: a step
     // that passes through equilibrium ends there instead of running on to
     // its cap (the static test in [`relax`] then decides, without inertia).
-    sim.newton.max_force_tol = opts.tol * sim.params.rod.ks;
+    sim.newton.max_force_tol = opts.tol * ForceScale::of(&sim.fabric, &sim.params).value;
     sim.h = opts.h_initial;
     sim.h_min = opts.h_initial * 1e-4;
     sim.h_max = opts.h_max;

@@ -204,6 +204,13 @@ impl Simulation {
         Ok(g.iter().fold(0.0f64, |m, v| m.max(v.abs())) / self.params.rod.ks)
     }
 
+    /// The potential energy `V(q)` of the current state: every term of the
+    /// current discretization, without inertia (J).
+    pub fn potential_energy(&self) -> Result<f64, SimError> {
+        use crate::solver::newton::Problem;
+        Ok(self.problem(None)?.energy(&self.q))
+    }
+
     /// The assignment the next step would start from.
     fn next_assignment(&self) -> Assignment {
         assign_after(

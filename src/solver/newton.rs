@@ -153,6 +153,10 @@ pub struct IterStats {
     /// held at a bound ([`Problem::bounds`]).
     pub residual: f64,
     pub rel_residual: f64,
+    /// Largest free gradient entry at the start of the iteration, held
+    /// unknowns included (force units): what [`NewtonParams::max_force_tol`]
+    /// tests.
+    pub max_force: f64,
     /// Newton decrement `dq^T H dq / 2` (0 when no Newton direction was computed).
     pub decrement: f64,
     /// Accepted step length (0 when no step was taken).

@@ -8,8 +8,9 @@
 //!    node is shared by its two yarns and no other two segments come closer
 //!    than a yarn diameter ([`mod@clearance`] checks it).
 //! 3. [`assemble`] (with [`rest_length`]): yarns as sorted `(u, x)` lists,
-//!    `u` from Munden's stitch length, and the contacts with their front
-//!    and back yarn points.
+//!    `u` from the gauge's loop length, and the contacts with their front
+//!    and back yarn points. Yarn radii are model (effective) radii from
+//!    here on ([`rest_length`], "yarn model").
 //! 4. [`thin`] (opt-in, `CompileOptions::shape_gap`): drop shape points
 //!    closer than a few yarn diameters to a contact.
 //!
@@ -32,6 +33,7 @@ pub mod fabric;
 pub mod geometry;
 pub mod knit_graph;
 pub mod layout;
+pub mod measure;
 pub mod options;
 pub mod passes;
 pub mod path;
@@ -45,6 +47,7 @@ pub use clearance::{clearance, ClearanceOptions, ClearanceReport, Violation};
 pub use error::TopologyError;
 pub use fabric::*;
 pub use layout::LayoutOptions;
+pub use measure::{MeasuredGauge, StitchGrid};
 pub use options::CompileOptions;
 pub use stack::stack_layers;
 pub use stats::{stats, Stats};
@@ -63,9 +66,11 @@ pub fn compile(p: &Pattern, opts: &CompileOptions) -> Result<Fabric, TopologyErr
     let mut specs: Vec<usize> = graph.passes.iter().map(|pass| pass.spec).collect();
     specs.sort_unstable();
     specs.dedup();
-    let lay = layout::Layout::new(&p.meta, &opts.layout, on_needle, specs.len())?;
+    // Everything past the graph sees the model (effective) yarn radii.
+    let meta = rest_length::effective_meta(&p.meta, opts);
+    let lay = layout::Layout::new(&meta, &opts.layout, on_needle, specs.len())?;
     let geo = geometry::Geometry::new(&graph, &lay);
-    let mut fabric = assemble::assemble(&graph, &lay, geo, &p.meta, opts)?;
+    let mut fabric = assemble::assemble(&graph, &lay, geo, &meta, opts)?;
     thin::thin_shape_points(&mut fabric, opts.shape_gap);
     Ok(fabric)
 }

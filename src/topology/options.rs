@@ -16,9 +16,22 @@ pub struct CompileOptions {
     pub munden_kc: f64,
     /// Munden's wale constant `k_w = wpc * l`. Dry-relaxed plain knit: 3.8.
     pub munden_kw: f64,
-    /// Floor on the loop length in yarn diameters: a loop cannot be shorter
-    /// than Peirce's jammed loop (about 16.6 d), whatever the gauge claims.
+    /// Floor on the loop length in model (effective) yarn diameters: the
+    /// tightest real knits have loops of about 12 yarn diameters, and no
+    /// gauge makes a loop shorter. A pattern whose gauge asks for less
+    /// gets a warning naming the tightest gauge its yarn reaches.
     pub jammed_loop_diameters: f64,
+    /// Model radius over the radius a `yarn` line states. A yarn's stated
+    /// size is its free, uncompressed thickness; inside a knit it is
+    /// squashed and its fibres nest, so the centre-line model, whose yarns
+    /// are incompressible tubes, uses an effective radius this much
+    /// smaller (see [`super::rest_length`], "yarn model").
+    pub yarn_compression: f64,
+    /// Loop length over Munden's `sqrt(k_c k_w w h)`: calibrates the loop
+    /// length so that the simulator's own relaxed stockinette measures the
+    /// gauge it was compiled for (Munden's constants describe real yarn,
+    /// not this model's).
+    pub loop_calibration: f64,
     /// A slip-stitch float's rest length is `w * (1 + slip_float_slack)`:
     /// it spans one stitch and bows around the elongated loop's legs.
     /// *Robust Eulerian-on-Lagrangian Rods* tunes exactly this to change how relaxed slip patterns look.
@@ -45,7 +58,9 @@ impl Default for CompileOptions {
         Self {
             munden_kc: 5.0,
             munden_kw: 3.8,
-            jammed_loop_diameters: 16.6,
+            jammed_loop_diameters: 12.0,
+            yarn_compression: 0.6,
+            loop_calibration: 0.72,
             slip_float_slack: 0.15,
             strand_float_slack: 0.10,
             max_loops_on_needle: 2,
@@ -62,6 +77,8 @@ impl CompileOptions {
             ("munden_kc", self.munden_kc),
             ("munden_kw", self.munden_kw),
             ("jammed_loop_diameters", self.jammed_loop_diameters),
+            ("yarn_compression", self.yarn_compression),
+            ("loop_calibration", self.loop_calibration),
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {

@@ -1,29 +1,41 @@
 //! Rest lengths: how much yarn each loop and float gets, and the material
 //! coordinate `u` along each yarn.
 //!
-//! **Stitch (loop) length**, from Munden's relations (docs/MODEL.md,
-//! "Real-fabric references"): in a
-//! relaxed plain knit the courses and wales per unit length are
-//! `cpc = k_c / l` and `wpc = k_w / l`, so with the gauge pitches
-//! `w = 1/wpc`, `h = 1/cpc` each alone predicts `l = k_w w` and `l = k_c h`.
-//! We take their geometric mean, which is exact when the gauge obeys
-//! Munden's ratio and splits the difference when it does not:
+//! **Yarn model.** A `yarn` line states the yarn's free thickness. In a
+//! knit the yarn is squashed where loops press on each other and its
+//! fibres nest, so the model, whose yarns are incompressible tubes around
+//! their centre lines, simulates an *effective* radius
+//! `CompileOptions::yarn_compression` (0.6) times the stated one.
+//! [`effective_meta`] applies it once, in [`super::compile`]: every radius
+//! of a compiled [`Fabric`](super::Fabric) is a model radius.
+//!
+//! **Stitch (loop) length.** The `gauge` line follows the ball-band
+//! convention: it is the gauge of this yarn *in stockinette* on the
+//! needles used, so it fixes the loop length, and other stitch patterns
+//! relax to their own size with the same loops (rib narrower, garter
+//! shorter). Munden's relations (Munden 1959; docs/MODEL.md, "Real-fabric
+//! references") give, for a relaxed plain knit with pitches `w` (wale) and
+//! `h` (course), `l = k_w w = k_c h`; we take the geometric mean, scaled by
+//! a calibration `k_l` so that the simulator's own relaxed stockinette
+//! measures the gauge (Munden's constants describe real yarn, not this
+//! model), and floor it at the tightest loop a yarn of the effective
+//! diameter forms (about 12 d in the tightest real knits; Peirce's
+//! geometrically jammed loop of a round incompressible yarn, 16.6 d, is
+//! longer, since real yarns flatten):
 //!
 //! ```text
-//! l = looseness * max( sqrt(k_c k_w w h),  l_jam = 16.6 d )
+//! l = looseness * max( k_l sqrt(k_c k_w w h),  l_jam = 12 d_eff )
 //! ```
 //!
-//! The floor is the yarn-diameter term: Peirce's jammed loop is the
-//! shortest loop an incompressible yarn of diameter `d` can form, whatever
-//! the gauge says. Looseness scales the result, floor included: a designer
-//! who asks for a tight knit of a yarn that is already at its jam length
-//! for the gauge (every shipped pattern is: 0.75 mm radius at 24 sts)
-//! gets a shorter loop, which a real, compressible yarn allows, rather
-//! than a looseness that silently does nothing.
-//! With the defaults (k_c = 5.0, k_w = 3.8) a 22 x 30 gauge gives
-//! `l = sqrt(19 * 4.55 mm * 3.33 mm) = 16.9 mm`. A loop keeps its length when
-//! it is slipped: a slipped loop is the same yarn, stretched over two rows
-//! by the relaxation.
+//! `k_l = 0.72` (`CompileOptions::loop_calibration`): a 16 x 16
+//! stockinette at 24 x 32 sts/rows per 10 cm, effective radius 0.45 mm,
+//! relaxed with the default settings, measures 22.5 x 30.2 at `k_l = 0.77`
+//! (`topology::measure`), and `l` scales the stitch pitches. When the floor
+//! binds the yarn is too thick for the gauge: the pattern gets a warning
+//! naming [`jam_gauge`], the tightest gauge the yarn reaches. Looseness
+//! scales the result, floor included.
+//! A slipped loop keeps its length: it is the same yarn, stretched over two
+//! rows by the relaxation.
 //!
 //! **Float length**: `w (1 + slack)`, one stitch width plus a slack
 //! (`slip_float_slack` for slips, `strand_float_slack` for colourwork).
@@ -37,12 +49,40 @@
 use super::knit_graph::FloatKind;
 use super::options::CompileOptions;
 use super::path::Owner;
+use crate::pattern::{Gauge, Meta};
+
+/// The loop length the gauge pitches `w`, `h` (m) ask for, before the jam
+/// floor and looseness.
+pub fn gauge_loop_length(w: f64, h: f64, opts: &CompileOptions) -> f64 {
+    opts.loop_calibration * (opts.munden_kc * opts.munden_kw * w * h).sqrt()
+}
 
 /// Rest yarn length of one loop, from the gauge pitches `w`, `h` (m), the
-/// yarn diameter `d` (m) and the pattern's looseness.
+/// effective yarn diameter `d` (m) and the pattern's looseness.
 pub fn stitch_length(w: f64, h: f64, d: f64, looseness: f64, opts: &CompileOptions) -> f64 {
-    let munden = (opts.munden_kc * opts.munden_kw * w * h).sqrt();
-    looseness * munden.max(opts.jammed_loop_diameters * d)
+    looseness * gauge_loop_length(w, h, opts).max(opts.jammed_loop_diameters * d)
+}
+
+/// The tightest gauge (same stitch-to-row ratio as `gauge`) at which a
+/// yarn of effective diameter `d` still forms the loops the gauge asks
+/// for; `None` when `gauge` itself is within reach.
+pub fn jam_gauge(gauge: Gauge, d: f64, opts: &CompileOptions) -> Option<Gauge> {
+    let asked = gauge_loop_length(gauge.stitch_width(), gauge.row_height(), opts);
+    let jam = opts.jammed_loop_diameters * d;
+    // Loop length is linear in the pitches' scale.
+    (asked < jam).then(|| Gauge {
+        stitches_per_10cm: gauge.stitches_per_10cm * asked / jam,
+        rows_per_10cm: gauge.rows_per_10cm * asked / jam,
+    })
+}
+
+/// `meta` with every yarn radius replaced by its model (effective) radius.
+pub fn effective_meta(meta: &Meta, opts: &CompileOptions) -> Meta {
+    let mut m = meta.clone();
+    for y in &mut m.yarns {
+        y.radius *= opts.yarn_compression;
+    }
+    m
 }
 
 /// Rest length of a float over one stitch of width `w`.
@@ -91,16 +131,35 @@ mod tests {
     #[test]
     fn munden_length_for_a_worsted_gauge() {
         // 22 sts and 30 rows per 10 cm: w = 4.545 mm, h = 3.333 mm.
-        // sqrt(5.0 * 3.8 * 4.545e-3 * 3.333e-3) = sqrt(2.8788e-4) = 16.97 mm.
+        // sqrt(5.0 * 3.8 * 4.545e-3 * 3.333e-3) = sqrt(2.8788e-4) = 16.97 mm,
+        // calibrated: 0.72 * 16.97 = 12.22 mm.
         let opts = CompileOptions::default();
-        let l = stitch_length(0.1 / 22.0, 0.1 / 30.0, 1.0e-3, 1.0, &opts);
-        assert!((l - 16.967e-3).abs() < 1e-5, "{l}");
-        // Tight (0.85) scales it: 14.42 mm.
-        let tight = stitch_length(0.1 / 22.0, 0.1 / 30.0, 1.0e-3, 0.85, &opts);
-        assert!((tight - 0.85 * 16.967e-3).abs() < 1e-5, "{tight}");
-        // A 1.2 mm yarn's jam floor (19.92 mm) binds, and looseness scales it.
+        let l = stitch_length(0.1 / 22.0, 0.1 / 30.0, 0.6e-3, 1.0, &opts);
+        assert!((l - 0.72 * 16.967e-3).abs() < 1e-5, "{l}");
+        // Tight (0.85) scales it.
+        let tight = stitch_length(0.1 / 22.0, 0.1 / 30.0, 0.6e-3, 0.85, &opts);
+        assert!((tight - 0.85 * 0.72 * 16.967e-3).abs() < 1e-5, "{tight}");
+        // A 1.2 mm yarn's jam floor (14.4 mm) binds, and looseness scales it.
         let loose = stitch_length(0.1 / 22.0, 0.1 / 30.0, 1.2e-3, 1.2, &opts);
-        assert!((loose - 1.2 * 16.6 * 1.2e-3).abs() < 1e-12, "{loose}");
+        assert!((loose - 1.2 * 12.0 * 1.2e-3).abs() < 1e-12, "{loose}");
+    }
+
+    #[test]
+    fn the_jam_gauge_is_where_the_floor_starts_to_bind() {
+        let opts = CompileOptions::default();
+        let asked = Gauge {
+            stitches_per_10cm: 24.0,
+            rows_per_10cm: 32.0,
+        };
+        // 0.9 mm effective diameter: 12 d = 10.8 mm, the gauge asks for
+        // 0.72 * sqrt(19 * 4.167 * 3.125) = 11.3 mm: within reach.
+        assert!(jam_gauge(asked, 0.9e-3, &opts).is_none());
+        // 1.2 mm: the floor (14.4 mm) binds; at the jam gauge it just does not.
+        let jam = jam_gauge(asked, 1.2e-3, &opts).expect("too thick");
+        assert!(jam.stitches_per_10cm < 24.0 && jam.rows_per_10cm < 32.0);
+        assert!((jam.rows_per_10cm / jam.stitches_per_10cm - 32.0 / 24.0).abs() < 1e-12);
+        let l = gauge_loop_length(jam.stitch_width(), jam.row_height(), &opts);
+        assert!((l - 12.0 * 1.2e-3).abs() < 1e-12, "{l}");
     }
 
     #[test]

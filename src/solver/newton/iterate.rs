@@ -102,6 +102,7 @@ pub fn minimize<P: Problem + ?Sized>(
             energy,
             residual,
             rel_residual,
+            max_force,
             decrement: 0.0,
             step: 0.0,
             direction: Direction::None,
