@@ -14,6 +14,8 @@ use super::model::{SourceLoc, Stitch};
 pub enum ErrorKind {
     #[error("cannot read the pattern file: {0}")]
     Io(String),
+    #[error("the pattern file is not UTF-8: {0}")]
+    Encoding(String),
     #[error("syntax error: {0}")]
     Syntax(String),
     #[error("unknown metadata key '{0}' (expected name, gauge, yarn <NAME>, construction, width, height, looseness, legend, chart or written)")]
