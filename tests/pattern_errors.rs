@@ -176,6 +176,11 @@ fn a_byte_that_is_not_utf8_is_located() {
 }
 
 #[test]
+fn a_nan_yarn_radius_is_an_error_at_the_number() {
+    check("yarn-radius-nan.knit", ErrorKind::BadYarn(String::new()), 2, 26);
+}
+
+#[test]
 fn a_byte_order_mark_is_accepted_and_columns_stay_right() {
     let shipped = std::fs::read("patterns/stockinette.knit").expect("shipped pattern");
     let with_bom = [b"\xef\xbb\xbf".as_slice(), &shipped].concat();
@@ -196,7 +201,7 @@ fn every_malformed_file_is_checked() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/malformed");
     let count = std::fs::read_dir(dir).expect("dir").filter_map(Result::ok).count();
     // One per `check` call above; keeps new files from going untested.
-    assert_eq!(count, 22);
+    assert_eq!(count, 23);
 }
 
 #[test]

@@ -23,6 +23,7 @@ pub mod model;
 mod source;
 mod validate;
 mod written;
+mod yarn;
 
 use std::path::Path;
 
