@@ -4,7 +4,7 @@
 use std::mem::discriminant;
 use std::path::Path;
 
-use knitsim::pattern::{load, parse_bytes, parse_str, ErrorKind, StitchKind};
+use knitsim::pattern::{load, parse_bytes, parse_str, parse_str_with, ErrorKind, Limits, StitchKind};
 
 fn check(file: &str, expected: ErrorKind, line: usize, column: usize) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/malformed").join(file);
@@ -194,6 +194,29 @@ fn a_byte_order_mark_is_accepted_and_columns_stay_right() {
     // Columns on the first line count from after the mark.
     let err = parse_str("\u{feff}gauge: 24 x nan\nchart:\n  .\n", "p.knit").expect_err("nan rows");
     assert_eq!((err.loc.line, err.loc.column), (1, 13), "{err}");
+}
+
+#[test]
+fn an_error_in_a_very_long_row_shows_a_window_around_the_true_column() {
+    let mut row = "k".repeat(5000);
+    row.replace_range(3999..4000, "x");
+    let text = format!("legend:\n  k = knit\nchart:\n  {row}\n");
+    let limits = Limits {
+        max_width: 10_000,
+        ..Limits::default()
+    };
+    let err = parse_str_with(&text, "p.knit", &limits).expect_err("a long row with an unknown symbol");
+    let rendered = err.to_string();
+    assert_eq!((err.loc.line, err.loc.column), (4, 4002), "{rendered}");
+    assert!(rendered.contains("p.knit:4:4002"), "{rendered}");
+    assert!(rendered.lines().all(|l| l.chars().count() <= 100), "{rendered}");
+    let lines: Vec<&str> = rendered.lines().collect();
+    let (source_line, caret_line) = (lines[lines.len() - 2], lines[lines.len() - 1]);
+    assert!(
+        source_line.starts_with("4 | ...k") && source_line.ends_with("k..."),
+        "{rendered}"
+    );
+    assert_eq!(caret_line.find('^'), source_line.find('x'), "{rendered}");
 }
 
 #[test]
