@@ -94,7 +94,7 @@ fn a_malformed_pattern_is_an_error_at_its_line_and_column_and_writes_nothing() {
     let pattern = "tests/malformed/unknown-symbol.knit";
     let run = knitsim(&["relax", pattern, "-o", out.to_str().unwrap()]);
     let stderr = text(&run.stderr);
-    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
     let at = format!("{pattern}:");
     let location = stderr
         .split(&at)
@@ -127,12 +127,43 @@ fn a_broken_scene_file_is_an_error_at_its_line_and_column() {
         scene.to_str().unwrap(),
     ]);
     let stderr = text(&run.stderr);
-    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains(&format!("{}:2:21:", scene.display())), "{stderr}");
     assert!(!out.exists() || std::fs::read_dir(&out).unwrap().count() == 0);
     let run = knitsim(&["relax", &pattern, "-o", out.to_str().unwrap(), "--tol", "NaN"]);
     assert_eq!(run.status.code(), Some(1));
     assert!(text(&run.stderr).contains("--tol must be a positive number"));
+}
+
+#[test]
+fn bad_values_in_a_pattern_or_scene_exit_with_2_at_their_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out_s = out.to_str().unwrap();
+    let latin1 = "tests/malformed/latin1-gauge.knit";
+    let run = knitsim(&["compile", latin1, "-o", out_s]);
+    let stderr = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(&format!("{latin1}:2:15")) && stderr.contains("not UTF-8"),
+        "{stderr}"
+    );
+
+    let pattern = small_stockinette(dir.path());
+    let scene = dir.path().join("sphere.json");
+    let sphere = "{\"obstacles\": [\n  {\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": -0.01}\n]}\n";
+    std::fs::write(&scene, sphere).unwrap();
+    let run = knitsim(&["relax", &pattern, "-o", out_s, "--scene", scene.to_str().unwrap()]);
+    let stderr = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains(&format!("{}:2:58: ", scene.display())), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!out.exists() || std::fs::read_dir(&out).unwrap().count() == 0);
+
+    // A file that cannot be opened is not bad input: exit status 1.
+    let missing = dir.path().join("missing.knit");
+    let run = knitsim(&["compile", missing.to_str().unwrap(), "-o", out_s]);
+    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
 }
 
 /// Two yarns 40 mm long crossing at their middles on one `Layer` contact,
@@ -318,7 +349,7 @@ fn the_bending_hessian_flag_and_scene_key_are_read_and_checked() {
         "--scene",
         scene.to_str().unwrap(),
     ]);
-    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+    assert_eq!(run.status.code(), Some(2), "{}", text(&run.stderr));
     assert!(
         text(&run.stderr).contains(&format!("{}:1:", scene.display())),
         "{}",

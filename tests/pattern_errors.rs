@@ -4,7 +4,7 @@
 use std::mem::discriminant;
 use std::path::Path;
 
-use knitsim::pattern::{load, parse_str, ErrorKind, StitchKind};
+use knitsim::pattern::{load, parse_bytes, parse_str, parse_str_with, ErrorKind, Limits, StitchKind};
 
 fn check(file: &str, expected: ErrorKind, line: usize, column: usize) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/malformed").join(file);
@@ -170,11 +170,61 @@ fn yarn_thicker_than_the_stitch() {
 }
 
 #[test]
+fn a_byte_that_is_not_utf8_is_located() {
+    // A Latin-1 `×` (0xD7) in the gauge line.
+    check("latin1-gauge.knit", ErrorKind::Encoding(String::new()), 2, 15);
+}
+
+#[test]
+fn a_nan_yarn_radius_is_an_error_at_the_number() {
+    check("yarn-radius-nan.knit", ErrorKind::BadYarn(String::new()), 2, 26);
+}
+
+#[test]
+fn a_byte_order_mark_is_accepted_and_columns_stay_right() {
+    let shipped = std::fs::read("patterns/stockinette.knit").expect("shipped pattern");
+    let with_bom = [b"\xef\xbb\xbf".as_slice(), &shipped].concat();
+    let plain = parse_bytes(&shipped, "p.knit").expect("shipped pattern parses");
+    let marked = parse_bytes(&with_bom, "p.knit").expect("a BOM is accepted");
+    assert_eq!(plain.pattern, marked.pattern);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("bom.knit");
+    std::fs::write(&path, &with_bom).expect("write");
+    assert_eq!(load(&path).expect("a BOM file loads").pattern.meta, plain.pattern.meta);
+    // Columns on the first line count from after the mark.
+    let err = parse_str("\u{feff}gauge: 24 x nan\nchart:\n  .\n", "p.knit").expect_err("nan rows");
+    assert_eq!((err.loc.line, err.loc.column), (1, 13), "{err}");
+}
+
+#[test]
+fn an_error_in_a_very_long_row_shows_a_window_around_the_true_column() {
+    let mut row = "k".repeat(5000);
+    row.replace_range(3999..4000, "x");
+    let text = format!("legend:\n  k = knit\nchart:\n  {row}\n");
+    let limits = Limits {
+        max_width: 10_000,
+        ..Limits::default()
+    };
+    let err = parse_str_with(&text, "p.knit", &limits).expect_err("a long row with an unknown symbol");
+    let rendered = err.to_string();
+    assert_eq!((err.loc.line, err.loc.column), (4, 4002), "{rendered}");
+    assert!(rendered.contains("p.knit:4:4002"), "{rendered}");
+    assert!(rendered.lines().all(|l| l.chars().count() <= 100), "{rendered}");
+    let lines: Vec<&str> = rendered.lines().collect();
+    let (source_line, caret_line) = (lines[lines.len() - 2], lines[lines.len() - 1]);
+    assert!(
+        source_line.starts_with("4 | ...k") && source_line.ends_with("k..."),
+        "{rendered}"
+    );
+    assert_eq!(caret_line.find('^'), source_line.find('x'), "{rendered}");
+}
+
+#[test]
 fn every_malformed_file_is_checked() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/malformed");
     let count = std::fs::read_dir(dir).expect("dir").filter_map(Result::ok).count();
     // One per `check` call above; keeps new files from going untested.
-    assert_eq!(count, 21);
+    assert_eq!(count, 23);
 }
 
 #[test]

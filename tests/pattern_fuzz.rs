@@ -1,7 +1,7 @@
 //! The parser must never panic: random bytes and random edits of valid
-//! patterns may fail to parse, but only with an error.
+//! patterns may fail to parse, but only with an error at a line and column.
 
-use knitsim::pattern::parse_str;
+use knitsim::pattern::{parse_bytes, parse_str};
 use proptest::prelude::*;
 
 const SEEDS: [&str; 6] = [
@@ -66,6 +66,17 @@ proptest! {
     fn random_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..400)) {
         let text = String::from_utf8_lossy(&bytes);
         let _ = parse_str(&text, "fuzz.knit");
+    }
+
+    #[test]
+    fn random_bytes_fail_inside_the_file(bytes in prop::collection::vec(any::<u8>(), 0..400)) {
+        // Not UTF-8 included: the error still has a line and column in the file.
+        if let Err(err) = parse_bytes(&bytes, "fuzz.knit") {
+            let lines = bytes.split(|&b| b == b'\n').count();
+            prop_assert!(err.loc.line >= 1 && err.loc.line <= lines && err.loc.column >= 1, "{err}");
+            let at = format!("fuzz.knit:{}:{}", err.loc.line, err.loc.column);
+            prop_assert!(err.to_string().contains(&at), "{err}");
+        }
     }
 
     #[test]

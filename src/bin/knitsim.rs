@@ -6,7 +6,9 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob};
 use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
+use knitsim::pattern::ErrorKind;
 use knitsim::rod::bending::BendingHessian;
+use knitsim::scene::SceneError;
 use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions};
 use knitsim::solver::linear::{select, AutoParams};
 use knitsim::topology::CompileOptions;
@@ -108,6 +110,10 @@ impl From<SolverChoice> for knitsim::solver::linear::SolverChoice {
     }
 }
 
+/// Exit status of a pattern or scene file that cannot be read as one (the
+/// error names its file, line and column); other failures exit with 1.
+const BAD_INPUT: i32 = 2;
+
 fn main() {
     if let Err(e) = run(Cli::parse()) {
         // A pattern diagnostic comes with its own "error:" heading and snippet.
@@ -116,7 +122,16 @@ fn main() {
         } else {
             eprintln!("error: {e:#}");
         }
-        std::process::exit(1);
+        std::process::exit(if is_bad_input(&e) { BAD_INPUT } else { 1 });
+    }
+}
+
+/// A malformed pattern or scene (not one that could not be opened).
+fn is_bad_input(e: &anyhow::Error) -> bool {
+    match (e.downcast_ref::<InputError>(), e.downcast_ref::<SceneError>()) {
+        (Some(InputError::Pattern(p)), _) => !matches!(p.kind, ErrorKind::Io(_)),
+        (_, Some(SceneError::Parse { .. } | SceneError::Invalid { .. })) => true,
+        _ => false,
     }
 }
 

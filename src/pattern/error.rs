@@ -14,6 +14,8 @@ use super::model::{SourceLoc, Stitch};
 pub enum ErrorKind {
     #[error("cannot read the pattern file: {0}")]
     Io(String),
+    #[error("the pattern file is not UTF-8: {0}")]
+    Encoding(String),
     #[error("syntax error: {0}")]
     Syntax(String),
     #[error("unknown metadata key '{0}' (expected name, gauge, yarn <NAME>, construction, width, height, looseness, legend, chart or written)")]
@@ -146,17 +148,51 @@ impl fmt::Display for Warning {
     }
 }
 
+/// Longest excerpt shown, in characters; a longer line (a chart row of
+/// thousands of symbols) is cut to this many around the caret.
+const EXCERPT_WIDTH: usize = 80;
+/// Characters kept before the caret when a long line is cut.
+const EXCERPT_LEAD: usize = 30;
+const CUT: &str = "...";
+
+/// The part of `excerpt` shown: the whole line, or a window of
+/// [`EXCERPT_WIDTH`] characters around `column` with `...` where it was cut.
+/// Returns the text, the caret's 1-based column in it and the span kept.
+fn window(excerpt: &str, column: usize, span: usize) -> (String, usize, usize) {
+    let chars: Vec<char> = excerpt.chars().collect();
+    let n = chars.len();
+    if n <= EXCERPT_WIDTH {
+        return (excerpt.to_string(), column, span);
+    }
+    let caret = column.saturating_sub(1).min(n);
+    let start = caret.saturating_sub(EXCERPT_LEAD).min(n - EXCERPT_WIDTH);
+    let end = (start + EXCERPT_WIDTH).min(n);
+    let mut text = String::new();
+    let mut col = caret - start + 1;
+    if start > 0 {
+        text.push_str(CUT);
+        col += CUT.len();
+    }
+    text.extend(chars.get(start..end).unwrap_or_default());
+    if end < n {
+        text.push_str(CUT);
+    }
+    (text, col, span.min(end.saturating_sub(caret)).max(1))
+}
+
 /// rustc-style excerpt: message, `--> file:line:col`, the line, carets.
+/// The location is always the true one; only the excerpt may be cut.
 fn render(level: &str, message: &str, loc: &SourceLoc, excerpt: &str, span: usize) -> String {
     if loc.line == 0 {
         return format!("{level}: {message}\n --> {}", loc.file);
     }
     let number = loc.line.to_string();
     let pad = " ".repeat(number.len());
+    let (excerpt, column, span) = window(excerpt, loc.column, span);
     // Tabs are copied so the caret lines up whatever the terminal's tab width.
     let lead: String = excerpt
         .chars()
-        .take(loc.column.saturating_sub(1))
+        .take(column.saturating_sub(1))
         .map(|c| if c == '\t' { '\t' } else { ' ' })
         .collect();
     let carets = "^".repeat(span.max(1));
@@ -214,5 +250,35 @@ mod tests {
             span: 1,
         };
         assert!(w.to_string().ends_with("3 | \t\to\n  | \t\t^"));
+    }
+
+    fn long_line_error(column: usize) -> String {
+        let mut row: Vec<char> = vec!['o'; 5000];
+        row[column - 1] = 'x';
+        PatternError {
+            kind: ErrorKind::UnknownSymbol('x'),
+            loc: SourceLoc {
+                file: "f".into(),
+                line: 9,
+                column,
+            },
+            excerpt: row.into_iter().collect(),
+            span: 1,
+        }
+        .to_string()
+    }
+
+    #[test]
+    fn long_lines_are_cut_around_the_caret() {
+        for column in [1, 20, 2500, 4990, 5000] {
+            let text = long_line_error(column);
+            let lines: Vec<&str> = text.lines().collect();
+            assert!(lines[1].ends_with(&format!("f:9:{column}")), "{text}");
+            assert!(lines.iter().all(|l| l.len() <= EXCERPT_WIDTH + 20), "{text}");
+            assert_eq!(lines[3].matches('x').count(), 1, "{text}");
+            assert_eq!(lines[4].find('^'), lines[3].find('x'), "{text}");
+            assert_eq!(lines[3].starts_with("9 | ..."), column > EXCERPT_LEAD + 1, "{text}");
+            assert_eq!(lines[3].ends_with("..."), column < 5000 - 50, "{text}");
+        }
     }
 }

@@ -19,6 +19,7 @@ use super::document::MetaLine;
 use super::error::{ErrorKind, Warning, WarningKind};
 use super::model::{Construction, Gauge, YarnSpec};
 use super::source::{located, Line, Pos, Result, Source};
+use super::yarn::{parse_yarn, PendingYarn};
 
 /// Yarn radius when a pattern gives none, in stitch widths.
 const DEFAULT_RADIUS_PER_STITCH: f64 = 0.18;
@@ -43,15 +44,7 @@ impl MetaSpec {
     }
 }
 
-struct PendingYarn {
-    name: String,
-    pos: Pos,
-    color: [u8; 3],
-    radius: Option<(f64, Pos)>,
-    material: Option<String>,
-}
-
-fn syntax(src: &Source, line: Line, at: &str, expected: &str) -> super::error::PatternError {
+pub(super) fn syntax(src: &Source, line: Line, at: &str, expected: &str) -> super::error::PatternError {
     let token = at.trim();
     let pos = if token.is_empty() {
         line.pos(at, 1)
@@ -62,7 +55,7 @@ fn syntax(src: &Source, line: Line, at: &str, expected: &str) -> super::error::P
 }
 
 /// A positive finite number at `pos`, else `bad(message)`.
-fn positive(value: f64, what: &str) -> std::result::Result<f64, String> {
+pub(super) fn positive(value: f64, what: &str) -> std::result::Result<f64, String> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
@@ -100,78 +93,6 @@ fn parse_gauge(src: &Source, m: &MetaLine) -> Result<Gauge> {
         stitches_per_10cm: sts,
         rows_per_10cm: rows,
     })
-}
-
-fn parse_colour(src: &Source, line: Line, field: &str) -> Result<[u8; 3]> {
-    let bad = || src.error(ErrorKind::BadColour(field.to_string()), line.at(field));
-    let hex = field.strip_prefix('#').ok_or_else(bad)?;
-    if hex.len() != 6 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return Err(bad());
-    }
-    let channel = |i: usize| {
-        hex.get(i..i + 2)
-            .and_then(|h| u8::from_str_radix(h, 16).ok())
-            .ok_or_else(bad)
-    };
-    Ok([channel(0)?, channel(2)?, channel(4)?])
-}
-
-fn parse_yarn(src: &Source, m: &MetaLine) -> Result<PendingYarn> {
-    let line = m.line;
-    let Some((name, pos)) = m.arg else {
-        let msg = "name the yarn: `yarn MC: #d9cfc1, radius 0.75 mm`".to_string();
-        return Err(src.error(ErrorKind::BadYarn(msg), m.key_pos));
-    };
-    let mut yarn = PendingYarn {
-        name: name.to_string(),
-        pos,
-        color: [0xd9, 0xcf, 0xc1],
-        radius: None,
-        material: None,
-    };
-    let mut have_colour = false;
-    for raw in m.value.split(',') {
-        let field = raw.trim();
-        if field.is_empty() {
-            return Err(syntax(
-                src,
-                line,
-                raw,
-                "a yarn field (#rrggbb, radius N mm, or a material)",
-            ));
-        }
-        let twice = |what: &str| src.error(ErrorKind::BadYarn(format!("{what} given twice")), line.at(field));
-        if field.starts_with('#') {
-            if have_colour {
-                return Err(twice("colour"));
-            }
-            yarn.color = parse_colour(src, line, field)?;
-            have_colour = true;
-        } else if field.starts_with(|c: char| c.is_ascii_alphabetic()) && !field.contains(|c: char| c.is_ascii_digit())
-        {
-            if yarn.material.is_some() {
-                return Err(twice("material"));
-            }
-            yarn.material = Some(field.to_string());
-        } else {
-            let which = alt((tag_no_case("radius"), tag_no_case("diameter")));
-            let mut grammar = (which, space1, located(line, double), space0, tag_no_case("mm"), eof);
-            let Ok((_, (which, _, (mm, num_pos), _, _, _))) = grammar.parse(field) else {
-                return Err(syntax(src, line, raw, "`radius 0.75 mm` or `diameter 1.5 mm`"));
-            };
-            if yarn.radius.is_some() {
-                return Err(twice("size"));
-            }
-            let mm = positive(mm, which).map_err(|e| src.error(ErrorKind::BadYarn(e), num_pos))?;
-            let radius_mm = if which.eq_ignore_ascii_case("diameter") {
-                mm / 2.0
-            } else {
-                mm
-            };
-            yarn.radius = Some((radius_mm * 1e-3, num_pos));
-        }
-    }
-    Ok(yarn)
 }
 
 fn parse_count(src: &Source, m: &MetaLine) -> Result<(usize, Pos)> {
@@ -328,27 +249,11 @@ mod tests {
     }
 
     #[test]
-    fn yarn_fields() {
-        let m = meta("yarn CC: #FF8000, diameter 1.2 mm, merino wool").expect("yarn");
-        let y = &m.yarns[0];
-        assert_eq!(y.color, [255, 128, 0]);
-        assert!((y.radius - 0.6e-3).abs() < 1e-12);
-        assert_eq!(y.material.as_deref(), Some("merino wool"));
-    }
-
-    #[test]
     fn default_yarn_scales_with_gauge() {
         let m = meta("gauge: 20 x 28").expect("defaults");
         // 0.18 of a 5 mm stitch.
         assert!((m.yarns[0].radius - 0.9e-3).abs() < 1e-12);
         assert_eq!(m.looseness, 1.0);
-    }
-
-    #[test]
-    fn bad_colour_is_located() {
-        let err = meta("yarn A: #12345g").expect_err("g is not hex");
-        assert!(matches!(err.kind, ErrorKind::BadColour(_)));
-        assert_eq!(err.loc.column, 9);
     }
 
     #[test]

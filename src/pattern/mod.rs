@@ -15,6 +15,7 @@
 
 mod chart;
 mod document;
+mod encoding;
 mod error;
 mod legend;
 mod meta;
@@ -22,6 +23,7 @@ pub mod model;
 mod source;
 mod validate;
 mod written;
+mod yarn;
 
 use std::path::Path;
 
@@ -55,7 +57,7 @@ pub fn parse_str(src: &str, file: &str) -> std::result::Result<Parsed, PatternEr
 /// Reads and parses a pattern file.
 pub fn load(path: &Path) -> std::result::Result<Parsed, PatternError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| PatternError {
+    let bytes = std::fs::read(path).map_err(|e| PatternError {
         kind: ErrorKind::Io(e.to_string()),
         loc: SourceLoc {
             file: file.clone(),
@@ -65,11 +67,21 @@ pub fn load(path: &Path) -> std::result::Result<Parsed, PatternError> {
         excerpt: String::new(),
         span: 0,
     })?;
-    parse_str(&text, &file)
+    parse_bytes(&bytes, &file)
+}
+
+/// Parses the bytes of a pattern file: UTF-8, with or without a byte-order
+/// mark; a byte that is not UTF-8 is an error at its line and column.
+pub fn parse_bytes(bytes: &[u8], file: &str) -> std::result::Result<Parsed, PatternError> {
+    parse_str(encoding::decode(bytes, file)?, file)
 }
 
 /// [`parse_str`] with explicit limits.
+///
+/// A leading byte-order mark is dropped, so columns on the first line count
+/// from the first visible character, as editors show them.
 pub fn parse_str_with(text: &str, file: &str, limits: &Limits) -> std::result::Result<Parsed, PatternError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let src = Source::new(text, file);
     let doc = document::split(&src)?;
     let stem = Path::new(file)

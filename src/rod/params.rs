@@ -44,28 +44,40 @@ pub struct RodParams {
     /// Yarn radius (m); the parallel-contact distance is the diameter.
     /// `knitsim` sets it from the pattern's thickest yarn unless a scene
     /// gives it (`scene::params_for`).
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub radius: f64,
     /// Axial stiffness `EA` (N).
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub ks: f64,
     /// Bending rigidity `EI` (N m^2).
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub kb: f64,
     /// EIL contact stiffness as a multiple of `ks / du_rest`.
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub kc_factor: f64,
     /// Friction anchor spring stiffness (N/m of Eulerian slip).
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub kf: f64,
     /// Coulomb friction coefficient.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub mu: f64,
     /// Wrapping stiffness (J/rad^2).
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub kw: f64,
     /// Crossing shear stiffness (J/rad^2).
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub ksh: f64,
     /// Shear deviation from rest where jamming starts (rad).
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub shear_jam_angle: f64,
     /// Jamming stiffening rate (1/rad).
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub shear_jam_gain: f64,
     /// Parallel-contact penalty stiffness (N/m).
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub kp: f64,
     /// Linear density (kg/m).
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub rho: f64,
     /// Gravitational acceleration (m/s^2).
     pub gravity: Vector3<f64>,

@@ -3,8 +3,34 @@
 //! A scene is data (JSON), so a run is reproducible from its files alone.
 //! Obstacles are signed distance fields with a stiff penalty; a scene that
 //! has none costs nothing for them (no stencils are built).
+//!
+//! A scene is checked as it is read, and every error names the file, line
+//! and column of the offending value (a UTF-8 byte-order mark is allowed):
+//! - unknown keys, malformed JSON, a byte that is not UTF-8 and values of
+//!   the wrong type (`"radius": true`, `"obstacles": {}`) are refused by
+//!   serde_json at their position;
+//! - JSON has no NaN or infinity: `"nan"` or `"inf"` as a string where a
+//!   number belongs is refused with that reason, `1e999` is out of range;
+//! - stiffnesses, radii and densities (`rod.radius`, `ks`, `kb`, `rho`,
+//!   `kc_factor`, `obstacle_stiffness`, `contact.thickness`,
+//!   `stiffness_scale`, `max_stiffness_factor`, `penalty_stiffness`) are
+//!   above 0; the other scalars (`mu`, `kf`, `kw`, `ksh`, `kp`, the shear
+//!   jamming pair, the `assign` fractions, `separation.min_pull`, the
+//!   remaining `contact` factors) are 0 or above (`checked`);
+//! - obstacles: a sphere's radius and a box's half extents are above 0, a
+//!   plane's normal is not `[0, 0, 0]` (`shape_json`);
+//! - `assign.stop_fraction` and `assign.close_fraction` are below
+//!   `assign.safety_fraction` (unless 0); this rule compares two keys and is
+//!   located at the key in the text (`locate`).
+//!
+//! Scenes name no nodes: pins are part of the fabric (`Node::pinned`).
 
+mod checked;
+mod locate;
 pub mod obstacle;
+mod shape_json;
+
+pub(crate) use checked::{non_negative, optional_positive, positive};
 
 pub use obstacle::{ObstaclePenalty, Shape};
 
@@ -28,48 +54,44 @@ pub enum SceneError {
 }
 
 /// Reads simulation parameters from a JSON scene file. Missing keys keep
-/// their defaults; unknown keys, malformed JSON and non-finite or negative
-/// stiffnesses are errors naming the file, line and column.
+/// their defaults; unknown keys, malformed JSON, values of the wrong type or
+/// out of range (see the module docs) are errors naming the file, line and
+/// column.
 pub fn load_params(path: &Path) -> Result<SimParams, SceneError> {
     parse_params(&read_scene(path)?, path)
 }
 
-fn read_scene(path: &Path) -> Result<String, SceneError> {
-    std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+fn read_scene(path: &Path) -> Result<Vec<u8>, SceneError> {
+    std::fs::read(path).map_err(|source| SceneError::Read {
         path: path.display().to_string(),
         source,
     })
 }
 
-/// [`load_params`] on the text of the scene file `path`.
-fn parse_params(text: &str, path: &Path) -> Result<SimParams, SceneError> {
-    let p = path.display().to_string();
-    let params: SimParams = serde_json::from_str(text).map_err(|e| SceneError::Parse {
-        path: p.clone(),
+/// The scene text after a UTF-8 byte-order mark, if it has one.
+fn without_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xef\xbb\xbf".as_slice()).unwrap_or(bytes)
+}
+
+/// A located serde_json error (a byte that is not UTF-8 included).
+fn parse_error(path: &str, e: &serde_json::Error) -> SceneError {
+    let message = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    SceneError::Parse {
+        path: path.to_string(),
         line: e.line(),
         column: e.column(),
-        message: e.to_string(),
-    })?;
-    let (r, a) = (&params.rod, &params.assign);
-    for (name, v) in [
-        ("rod.ks", r.ks),
-        ("rod.kb", r.kb),
-        ("rod.rho", r.rho),
-        ("rod.radius", r.radius),
-        ("rod.kf", r.kf),
-        ("rod.mu", r.mu),
-        ("assign.safety_fraction", a.safety_fraction),
-        ("assign.release_fraction", a.release_fraction),
-        ("assign.stop_fraction", a.stop_fraction),
-        ("assign.close_fraction", a.close_fraction),
-    ] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(SceneError::Invalid {
-                path: p,
-                message: format!("{name} must be a finite non-negative number, got {v}"),
-            });
-        }
+        message: message.strip_suffix(&suffix).unwrap_or(&message).to_string(),
     }
+}
+
+/// [`load_params`] on the bytes of a scene file; `path` is the name used
+/// in errors.
+pub fn parse_params(bytes: &[u8], path: &Path) -> Result<SimParams, SceneError> {
+    let p = path.display().to_string();
+    let bytes = without_bom(bytes);
+    let params: SimParams = serde_json::from_slice(bytes).map_err(|e| parse_error(&p, &e))?;
+    let a = &params.assign;
     // A point stopped, or a segment tripped, outside the safety distance
     // would not be handed to EIL by the next re-assignment: a stop would
     // hold it forever, a tripwire would end every step at once.
@@ -78,25 +100,12 @@ fn parse_params(text: &str, path: &Path) -> Result<SimParams, SceneError> {
         ("close_fraction", a.close_fraction, "a closed segment"),
     ] {
         if v >= a.safety_fraction && v > 0.0 {
-            return Err(SceneError::Invalid {
-                path: p,
-                message: format!(
-                    "assign.{name} ({v}) must be below assign.safety_fraction ({}): {why} outside the \
-                     safety distance would never be handed to EIL",
-                    a.safety_fraction
-                ),
-            });
-        }
-    }
-    if let Some(sep) = &params.separation {
-        if !(sep.min_pull.is_finite() && sep.min_pull >= 0.0) {
-            return Err(SceneError::Invalid {
-                path: p,
-                message: format!(
-                    "separation.min_pull must be a finite non-negative force (N), got {}",
-                    sep.min_pull
-                ),
-            });
+            let message = format!(
+                "assign.{name} ({v}) must be below assign.safety_fraction ({}): {why} outside the \
+                 safety distance would never be handed to EIL",
+                a.safety_fraction
+            );
+            return Err(locate::at_key(bytes, &p, &[name, "safety_fraction"], message));
         }
     }
     Ok(params)
@@ -131,10 +140,10 @@ pub fn params_for(fabric: &Fabric, scene: Option<&Path>) -> Result<SimParams, Sc
     let (mut params, scene_radius, scene_radii) = match scene {
         None => (SimParams::default(), false, false),
         Some(path) => {
-            let text = read_scene(path)?;
-            let params = parse_params(&text, path)?;
+            let bytes = read_scene(path)?;
+            let params = parse_params(&bytes, path)?;
             // The typed parse succeeded, so this one does too.
-            let value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+            let value: serde_json::Value = serde_json::from_slice(without_bom(&bytes)).unwrap_or_default();
             let has = |key| value.pointer(key).is_some();
             (params, has("/rod/radius"), has("/radii"))
         }
@@ -229,24 +238,99 @@ mod tests {
         }
     }
 
+    /// The error of `text` must be at `(line, column)` and say `words`.
+    fn refused_at(text: &str, line: usize, column: usize, words: &str) {
+        let (r, path) = load(text);
+        let e = r.expect_err(text);
+        let shown = e.to_string();
+        assert!(
+            matches!(&e, SceneError::Parse { line: l, column: c, .. } if (*l, *c) == (line, column)),
+            "{text}: {shown}"
+        );
+        assert!(shown.starts_with(&format!("{path}:{line}:{column}: ")), "{shown}");
+        assert!(shown.contains(words), "{text}: {shown}");
+    }
+
     #[test]
-    fn negative_or_non_finite_values_are_refused() {
-        for (text, key) in [
-            (r#"{"rod": {"ks": -1.0}}"#, "rod.ks"),
-            (r#"{"separation": {"min_pull": -0.1}}"#, "separation.min_pull"),
-            (r#"{"assign": {"stop_fraction": -0.05}}"#, "assign.stop_fraction"),
-            (r#"{"assign": {"stop_fraction": 0.1}}"#, "assign.stop_fraction"),
-            (r#"{"assign": {"close_fraction": -1e-5}}"#, "assign.close_fraction"),
-            (r#"{"assign": {"close_fraction": 0.2}}"#, "assign.close_fraction"),
+    fn out_of_range_parameters_are_errors_at_the_value() {
+        for (text, column, words) in [
+            (r#"{"rod": {"ks": -1.0}}"#, 20, "above 0"),
+            (r#"{"rod": {"kb": 0}}"#, 17, "above 0"),
+            (r#"{"rod": {"radius": 0}}"#, 21, "above 0"),
+            (r#"{"rod": {"rho": -5e-4}}"#, 22, "above 0"),
+            (r#"{"rod": {"mu": -0.1}}"#, 20, "0 or above"),
+            (r#"{"obstacle_stiffness": 0}"#, 25, "above 0"),
+            (r#"{"separation": {"min_pull": -0.1}}"#, 33, "0 or above"),
+            (r#"{"assign": {"stop_fraction": -0.05}}"#, 35, "0 or above"),
+            (r#"{"assign": {"close_fraction": -1e-5}}"#, 36, "0 or above"),
+            (r#"{"contact": {"thickness": -1}}"#, 29, "above 0"),
         ] {
-            let (r, path) = load(text);
-            let e = r.unwrap_err().to_string();
-            assert!(e.starts_with(&path) && e.contains(key), "{e}");
+            refused_at(text, 1, column, words);
         }
-        // JSON has no NaN or infinity: an out-of-range number is a parse error.
-        assert!(matches!(
-            load(r#"{"rod": {"kb": 1e999}}"#).0,
-            Err(SceneError::Parse { .. })
-        ));
+        // The mu of a frictionless yarn and a contact without a thickness are fine.
+        let (p, _) = load(r#"{"rod": {"mu": 0}, "contact": {"thickness": null}}"#);
+        assert_eq!(p.unwrap().rod.mu, 0.0);
+    }
+
+    #[test]
+    fn non_finite_numbers_and_wrong_types_are_errors_at_the_value() {
+        refused_at("{\n  \"rod\": {\"ks\": \"nan\"}\n}", 2, 21, "no NaN or infinity");
+        refused_at(r#"{"rod": {"kb": "-inf"}}"#, 1, 21, "no NaN or infinity");
+        refused_at(r#"{"rod": {"kb": 1e999}}"#, 1, 20, "out of range");
+        refused_at(
+            r#"{"rod": {"radius": true}}"#,
+            1,
+            23,
+            "invalid type: boolean `true`, expected a number",
+        );
+        refused_at(r#"{"obstacles": {}}"#, 1, 14, "invalid type: map, expected a sequence");
+        refused_at(r#"{"obstacles": [1]}"#, 1, 16, "expected an obstacle object");
+        refused_at(
+            r#"{"rod": 5}"#,
+            1,
+            9,
+            "invalid type: integer `5`, expected struct RodParams",
+        );
+    }
+
+    #[test]
+    fn degenerate_obstacles_are_errors_at_the_value() {
+        let sphere = "{\"obstacles\": [\n  {\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": -0.1}\n]}";
+        refused_at(sphere, 2, 57, "above 0");
+        let zero = r#"{"obstacles": [{"type": "sphere", "center": [0, 0, 0], "radius": 0}]}"#;
+        refused_at(zero, 1, 67, "above 0");
+        let plane = r#"{"obstacles": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}]}"#;
+        refused_at(plane, 1, 72, "[0, 0, 0]");
+        let (p, _) = load(r#"{"obstacles": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 0, 2]}]}"#);
+        assert_eq!(p.unwrap().obstacles.len(), 1);
+    }
+
+    #[test]
+    fn fractions_beyond_the_safety_distance_point_at_the_key() {
+        refused_at(
+            "{\"assign\": {\n  \"stop_fraction\": 0.1\n}}",
+            2,
+            20,
+            "assign.stop_fraction (0.1) must be below assign.safety_fraction",
+        );
+        refused_at(
+            "{\"assign\": {\"close_fraction\": 0.2}}",
+            1,
+            31,
+            "assign.close_fraction",
+        );
+        // The default close_fraction against a tiny safety distance.
+        refused_at("{\"assign\": {\"safety_fraction\": 1e-6}}", 1, 32, "close_fraction");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_accepted_and_a_byte_that_is_not_utf8_is_located() {
+        let (p, _) = load("\u{feff}{\"rod\": {\"ks\": 50}}");
+        assert_eq!(p.unwrap().rod.ks, 50.0);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("latin1.json");
+        std::fs::write(&path, b"{\n  \"rod\": {\"ks\": 1\xd7}\n}").unwrap();
+        let e = load_params(&path).unwrap_err();
+        assert!(matches!(e, SceneError::Parse { line: 2, .. }), "{e}");
     }
 }

@@ -9,10 +9,12 @@
 
 use crate::energy::Stencil;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-/// A rigid, fixed obstacle.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// A rigid, fixed obstacle. Scenes read it with its values checked
+/// (`scene::shape_json`): a sphere's radius and a box's half extents are
+/// above 0, a plane's normal is not zero.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum Shape {
     Sphere {

@@ -16,6 +16,7 @@ use crate::topology::{Fabric, PointRef};
 #[serde(default, deny_unknown_fields)]
 pub struct AssignParams {
     /// Safety distance as a fraction of the rest segment length (0.1, docs/MODEL.md, "Node assignment").
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub safety_fraction: f64,
     /// `false` disables EIL entirely (plain EoL), to show why EIL matters.
     pub enable_eil: bool,
@@ -25,6 +26,7 @@ pub struct AssignParams {
     /// `safety_fraction`). Without it a point hovering at the safety
     /// distance flips kind every step, and every flip restarts Newton from
     /// a perturbed state.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub release_fraction: f64,
     /// Within a step, a sliding real point stops when its segment to a
     /// real neighbour is this fraction of the rest segment (below
@@ -32,11 +34,13 @@ pub struct AssignParams {
     /// stop (the default; 0.05 is half the safety distance). Opt-in: see
     /// `sim::slide_stops` and docs/RELAX.md, "Slide stops", for what it does to
     /// the relaxation.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub stop_fraction: f64,
     /// Within a relaxation step, a real segment shorter than this fraction
     /// of the rest segment ends the step (`sim::tripwire`), so the next
     /// re-assignment hands its sliding point to EIL; 0 = off. Below
     /// `safety_fraction`, so a tripped segment is always re-assigned.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub close_fraction: f64,
 }
 

@@ -100,24 +100,32 @@ pub struct ContactParams {
     pub mode: ContactModeName,
     /// Material thickness `h` (m); `None` = the thickest yarn's diameter
     /// (`SimParams::yarn_radii`; `2 rod.radius` when all yarns share it).
+    #[serde(deserialize_with = "crate::scene::optional_positive")]
     pub thickness: Option<f64>,
     /// Hard core `eta = core_fraction * h` of full-thickness pairs (docs/MODEL.md,
     /// "Thickness contact"; 0 = single phase).
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub core_fraction: f64,
     /// Culling window (segments) of the `culled` mode; default 11.
     pub cull_window: u32,
     /// Exclusion radius around persistent EoL contacts, in units of `h`.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub eol_exclusion: f64,
     /// Candidate margin in units of `h`: pairs within `(1 + margin) h` are
     /// listed per solve; nodes may move `0.45 margin h` before a rebuild.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub margin: f64,
     /// `kappa_min = stiffness_scale * kb / h^3`.
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub stiffness_scale: f64,
     /// `kappa_max = max_stiffness_factor * kappa_min`.
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub max_stiffness_factor: f64,
     /// kappa doubles while the smallest gap shrinks below `close_gap * h`.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub close_gap: f64,
     /// Stiffness of the `penalty` mode (N/m).
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub penalty_stiffness: f64,
 }
 

@@ -69,6 +69,7 @@ pub struct SimParams {
     pub terms: Terms,
     pub obstacles: Vec<Shape>,
     /// Penalty stiffness of obstacles (N/m).
+    #[serde(deserialize_with = "crate::scene::positive")]
     pub obstacle_stiffness: f64,
     /// Non-persistent yarn-yarn contact; `None` (no `"contact"` key) = off
     /// and free. See `sim::contact_terms`.

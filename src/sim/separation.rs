@@ -54,6 +54,7 @@ pub struct SeparationParams {
     pub kinds: Vec<ContactKind>,
     /// A contact goes when its normal force is below `-min_pull` (N). The
     /// default 0 removes any contact that pulls at all.
+    #[serde(deserialize_with = "crate::scene::non_negative")]
     pub min_pull: f64,
 }
 
