@@ -9,13 +9,14 @@ use knitsim::topology::{Contact, ContactKind, Fabric, Node, PointRef, Vec3, Yarn
 use std::path::Path;
 use std::process::{Command, Output};
 
-const OUTPUTS: [&str; 6] = [
+const OUTPUTS: [&str; 7] = [
     "state.json",
     "relaxed.vtk",
     "relaxed.obj",
     "relaxed.mtl",
     "relaxed.png",
     "convergence.csv",
+    "summary.json",
 ];
 
 fn knitsim(args: &[&str]) -> Output {
@@ -58,15 +59,25 @@ fn relax_writes_every_output_and_ends_with_the_residual_and_wall_time() {
 
     let last = stdout.lines().last().unwrap_or_default();
     let residual: f64 = last
-        .strip_prefix("final residual ")
+        .strip_prefix("largest free force ")
         .and_then(|r| r.split_whitespace().next())
         .and_then(|r| r.parse().ok())
         .unwrap_or_else(|| panic!("last line: {last}"));
     assert!(
-        last.contains("(converged, tol 1.0e-3)") && last.contains("wall time"),
+        last.contains("(converged, tol 1.0e2)") && last.contains("wall time"),
         "{last}"
     );
-    assert!(residual < 1e-3, "{last}");
+    assert!(residual < 100.0, "{last}");
+    // The line before gives the measured gauge; summary.json holds the same.
+    let gauge_line = stdout.lines().rev().nth(1).unwrap_or_default();
+    assert!(
+        gauge_line.starts_with("gauge ") && gauge_line.contains("(pattern: 24.0 x 32.0)"),
+        "{gauge_line}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["converged"], serde_json::Value::Bool(true));
+    assert!((summary["stopping_quantity"].as_f64().unwrap() - residual).abs() <= 1e-3 * residual);
 
     // One CSV row per Newton iteration, as many as the summary reports.
     let iterations: usize = stdout
@@ -77,13 +88,13 @@ fn relax_writes_every_output_and_ends_with_the_residual_and_wall_time() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("iteration,step,elapsed_s,energy,residual,step_length,eil_count")
+        Some("iteration,step,elapsed_s,energy,max_force_over_scale,gradient_norm,step_length,eil_count")
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|v| v.parse().expect("numeric cell")).collect())
         .collect();
     assert_eq!(rows.len(), iterations);
-    assert!(rows.iter().all(|r| r.len() == 7 && r.iter().all(|v| v.is_finite())));
+    assert!(rows.iter().all(|r| r.len() == 8 && r.iter().all(|v| v.is_finite())));
     assert!(rows.windows(2).all(|w| w[1][2] >= w[0][2]), "elapsed time goes back");
 }
 

@@ -76,9 +76,9 @@ enum Command {
         tol: f64,
         #[arg(long, default_value_t = RelaxOptions::default().max_steps)]
         max_steps: usize,
-        /// Non-persistent yarn-yarn contact: none, penalty, barrier, culled
-        /// or filtered (overrides the scene's "contact" mode; default: off
-        /// unless the scene enables it).
+        /// Thickness contact between yarns that are not knitted together:
+        /// none, penalty, barrier, culled or filtered (overrides the scene's
+        /// "contact" mode; default: filtered).
         #[arg(long, value_name = "MODE")]
         contact: Option<ContactModeName>,
         /// The bending stencils' PSD Hessian for Newton: eigen (the nearest
@@ -182,7 +182,13 @@ fn compile(pattern: &Path, opts: &CompileOptions, output: &Path, stats: bool) ->
     save_json(&loaded.fabric, output)?;
     if stats {
         if let Some(p) = &loaded.pattern {
-            println!("{}", knitsim::topology::stats(p, &loaded.fabric));
+            print!("{}", knitsim::topology::stats(p, &loaded.fabric));
+            let g = knitsim::topology::rest_length::predicted_gauge(&loaded.fabric.meta, opts);
+            println!(
+                "{:<21}  {:>12}\n",
+                "predicted gauge",
+                format!("{:.1} x {:.1} / 10 cm", g.stitches_per_10cm, g.rows_per_10cm)
+            );
         }
     }
     println!("wrote {}", output.display());

@@ -123,9 +123,16 @@ pub enum WarningKind {
     #[error("yarn '{0}' is declared but never used")]
     UnusedYarn(String),
     #[error(
-        "yarn diameter {diameter_mm:.2} mm is more than half the stitch width {stitch_mm:.2} mm; the stitches will jam"
+        "yarn {yarn} jams at {jam_sts:.1} sts x {jam_rows:.1} rows / 10 cm; the pattern asks for {sts:.1} x {rows:.1} \
+         (its loops are made longer than the gauge asks, so the fabric will come out larger)"
     )]
-    ThickYarn { diameter_mm: f64, stitch_mm: f64 },
+    YarnJams {
+        yarn: String,
+        jam_sts: f64,
+        jam_rows: f64,
+        sts: f64,
+        rows: f64,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -134,6 +141,27 @@ pub struct Warning {
     pub loc: SourceLoc,
     pub excerpt: String,
     pub span: usize,
+}
+
+/// Where a warning about a whole line points: a yarn line, for checks
+/// that later stages make (`app::load_fabric` checks each yarn against the
+/// rest-length model).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Site {
+    pub loc: SourceLoc,
+    pub excerpt: String,
+    pub span: usize,
+}
+
+impl Site {
+    pub fn warning(&self, kind: WarningKind) -> Warning {
+        Warning {
+            kind,
+            loc: self.loc.clone(),
+            excerpt: self.excerpt.clone(),
+            span: self.span,
+        }
+    }
 }
 
 impl fmt::Display for Warning {

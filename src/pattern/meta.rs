@@ -16,7 +16,7 @@ use nom::number::complete::double;
 use nom::Parser;
 
 use super::document::MetaLine;
-use super::error::{ErrorKind, Warning, WarningKind};
+use super::error::{ErrorKind, Warning};
 use super::model::{Construction, Gauge, YarnSpec};
 use super::source::{located, Line, Pos, Result, Source};
 use super::yarn::{parse_yarn, PendingYarn};
@@ -183,7 +183,7 @@ pub(crate) fn parse(src: &Source, lines: &[MetaLine], default_name: &str) -> Res
         });
     }
     let stitch = gauge.stitch_width();
-    let mut warnings = Vec::new();
+    let warnings = Vec::new();
     let mut yarns = Vec::new();
     let mut yarn_pos = Vec::new();
     for y in pending {
@@ -192,9 +192,6 @@ pub(crate) fn parse(src: &Source, lines: &[MetaLine], default_name: &str) -> Res
         if diameter_mm >= stitch_mm {
             let msg = format!("diameter {diameter_mm:.2} mm does not fit in a {stitch_mm:.2} mm stitch (see gauge)");
             return Err(src.error(ErrorKind::BadYarn(msg), size_pos));
-        }
-        if diameter_mm > 0.5 * stitch_mm {
-            warnings.push(src.warning(WarningKind::ThickYarn { diameter_mm, stitch_mm }, size_pos));
         }
         yarns.push(YarnSpec {
             name: y.name,

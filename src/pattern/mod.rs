@@ -27,7 +27,7 @@ mod yarn;
 
 use std::path::Path;
 
-pub use error::{ErrorKind, PatternError, Warning, WarningKind};
+pub use error::{ErrorKind, PatternError, Site, Warning, WarningKind};
 pub use model::*;
 pub use validate::Limits;
 
@@ -39,6 +39,8 @@ use source::{Result, Source};
 pub struct Parsed {
     pub pattern: Pattern,
     pub warnings: Vec<Warning>,
+    /// Each yarn's line, by yarn index, for warnings of later stages.
+    pub yarn_sites: Vec<Site>,
 }
 
 /// Flat rows alternate RS (odd) and WS (even); in the round every row is RS.
@@ -121,9 +123,11 @@ pub fn parse_str_with(text: &str, file: &str, limits: &Limits) -> std::result::R
             warnings.push(src.warning(WarningKind::UnusedYarn(yarn.name.clone()), pos));
         }
     }
+    let yarn_sites = meta.yarn_pos.iter().map(|&pos| src.site(pos)).collect();
     Ok(Parsed {
         pattern: assemble(&src, meta, rows),
         warnings,
+        yarn_sites,
     })
 }
 

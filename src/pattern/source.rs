@@ -8,7 +8,7 @@
 
 use nom::{IResult, Parser};
 
-use super::error::{ErrorKind, PatternError, Warning, WarningKind};
+use super::error::{ErrorKind, PatternError, Site, Warning, WarningKind};
 use super::model::SourceLoc;
 
 /// A 1-based line/column with the number of characters to underline.
@@ -99,6 +99,15 @@ impl<'a> Source<'a> {
     pub fn error(&self, kind: ErrorKind, pos: Pos) -> PatternError {
         PatternError {
             kind,
+            loc: self.loc(pos),
+            excerpt: self.excerpt(pos.line),
+            span: pos.len,
+        }
+    }
+
+    /// Where `pos` is, for a warning that a later stage may raise.
+    pub fn site(&self, pos: Pos) -> Site {
+        Site {
             loc: self.loc(pos),
             excerpt: self.excerpt(pos.line),
             span: pos.len,

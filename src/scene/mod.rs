@@ -136,18 +136,26 @@ pub fn fabric_radius(fabric: &Fabric) -> Option<f64> {
 ///   contact;
 /// - `rod.radius` in the scene: that radius for every yarn
 ///   ([`YarnRadii::Uniform`]), unless the scene also sets `"radii"`.
+///
+/// Thickness contact between yarns is on (`filtered`) unless the scene
+/// says otherwise with a `"contact"` key (`{"contact": {"mode": "none"}}`
+/// turns it off): without it nothing stops two yarns that are not knitted
+/// together from passing through each other.
 pub fn params_for(fabric: &Fabric, scene: Option<&Path>) -> Result<SimParams, SceneError> {
-    let (mut params, scene_radius, scene_radii) = match scene {
-        None => (SimParams::default(), false, false),
+    let (mut params, scene_radius, scene_radii, scene_contact) = match scene {
+        None => (SimParams::default(), false, false, false),
         Some(path) => {
             let bytes = read_scene(path)?;
             let params = parse_params(&bytes, path)?;
             // The typed parse succeeded, so this one does too.
             let value: serde_json::Value = serde_json::from_slice(without_bom(&bytes)).unwrap_or_default();
             let has = |key| value.pointer(key).is_some();
-            (params, has("/rod/radius"), has("/radii"))
+            (params, has("/rod/radius"), has("/radii"), has("/contact"))
         }
     };
+    if !scene_contact {
+        params.contact = Some(crate::sim::ContactParams::default());
+    }
     if scene_radius {
         return Ok(params);
     }

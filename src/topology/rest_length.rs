@@ -76,6 +76,15 @@ pub fn jam_gauge(gauge: Gauge, d: f64, opts: &CompileOptions) -> Option<Gauge> {
     })
 }
 
+/// The gauge a relaxed stockinette of this compiled fabric's yarns knits
+/// at: the declared one, or the jam gauge of its thickest yarn when that
+/// yarn is too thick for it. `meta` holds model (effective) radii, as a
+/// compiled [`Fabric`](super::Fabric)'s does.
+pub fn predicted_gauge(meta: &Meta, opts: &CompileOptions) -> Gauge {
+    let d = 2.0 * meta.yarns.iter().map(|y| y.radius).fold(0.0, f64::max);
+    jam_gauge(meta.gauge, d, opts).unwrap_or(meta.gauge)
+}
+
 /// `meta` with every yarn radius replaced by its model (effective) radius.
 pub fn effective_meta(meta: &Meta, opts: &CompileOptions) -> Meta {
     let mut m = meta.clone();
