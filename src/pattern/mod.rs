@@ -17,6 +17,7 @@ mod chart;
 mod document;
 mod error;
 mod legend;
+mod limits;
 mod meta;
 pub mod model;
 mod source;
@@ -26,8 +27,8 @@ mod written;
 use std::path::Path;
 
 pub use error::{ErrorKind, PatternError, Warning, WarningKind};
+pub use limits::Limits;
 pub use model::*;
-pub use validate::Limits;
 
 use chart::GridRow;
 use source::{Result, Source};
