@@ -20,7 +20,7 @@ use clap::Parser;
 use knitsim::sim::{SimParams, Simulation};
 use knitsim::solver::linear::{pcg, BlockJacobi, CgParams, LinearSolver};
 use knitsim::solver::newton::Problem;
-use knitsim::solver::sparse::CsrMatrix;
+use knitsim::sparse::CsrMatrix;
 use std::time::Instant;
 
 #[derive(Parser)]

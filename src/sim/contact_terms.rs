@@ -470,11 +470,11 @@ impl Problem for RestartOnTrust<'_> {
         &mut self,
         q: &[f64],
         g: &mut [f64],
-        h: &mut crate::solver::sparse::CsrMatrix,
+        h: &mut crate::sparse::CsrMatrix,
     ) -> Result<(), AssemblyError> {
         self.problem.gradient_hessian(q, g, h)
     }
-    fn hessian_pattern(&self) -> crate::solver::sparse::CsrMatrix {
+    fn hessian_pattern(&self) -> crate::sparse::CsrMatrix {
         self.problem.hessian_pattern()
     }
     fn free(&self) -> &[bool] {

@@ -8,7 +8,7 @@ use crate::solver::assembly::{
     assemble, bind_all, gradient, hessian_pattern, total_energy, AnyStencilSet, AssemblyError,
 };
 use crate::solver::newton::Problem;
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 
 pub struct EolProblem {
     pub sets: Vec<Box<dyn AnyStencilSet>>,
