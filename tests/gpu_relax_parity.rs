@@ -87,7 +87,7 @@ fn relaxed(
     let start = Instant::now();
     let (fabric, params) = scene();
     let mut sim = Simulation::new(fabric, params, solver, options.h_initial);
-    eprintln!("{name}: {} unknowns", sim.q.len());
+    eprintln!("{name}: {} unknowns", sim.q().len());
     let report = relax(&mut sim, options, None, &mut |_, _| {}, &mut |_, _| {}).expect("relax runs");
     eprintln!(
         "{name}: {} steps, {} Newton iterations, residual {:.2e}, {:.1} s",

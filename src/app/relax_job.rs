@@ -10,8 +10,7 @@
 use crate::io::{
     save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
-use crate::sim::removal::RemovalCause;
-use crate::sim::{relax, RelaxOptions, RelaxReport, SimError, SimParams, Simulation};
+use crate::sim::{relax, RelaxOptions, RelaxReport, RemovalCause, SimError, SimParams, Simulation};
 use crate::solver::linear::LinearSolver;
 use crate::topology::{Fabric, SimInfo};
 use std::io::Write;
@@ -52,9 +51,9 @@ pub struct RelaxOutcome {
     pub wall_s: f64,
     pub rows: Vec<CsvRow>,
     pub fabric: Fabric,
-    /// Contacts removed because a yarn was pulled out of them (`sim::removal`).
+    /// Contacts removed because a yarn was pulled out of them (`sim::events::removal`).
     pub slid_off_contacts: usize,
-    /// Contacts removed because their yarns pulled apart (`sim::separation`).
+    /// Contacts removed because their yarns pulled apart (`sim::events::separation`).
     pub separated_contacts: usize,
     /// Points whose kind the next re-assignment would change
     /// (`Simulation::pending_kind_changes`).
@@ -98,12 +97,12 @@ pub fn run_relax(
     let wall_s = start.elapsed().as_secs_f64();
     let mut out = sim.snapshot();
     out.sim = Some(SimInfo {
-        time: sim.time,
+        time: sim.time(),
         newton_iterations: report.newton_iterations,
         residual: report.residual,
     });
     write_outputs(&out, &job.out_dir, &rows)?;
-    let count = |which: fn(&RemovalCause) -> bool| sim.removed.iter().filter(|r| which(&r.cause)).count();
+    let count = |which: fn(&RemovalCause) -> bool| sim.removed().iter().filter(|r| which(&r.cause)).count();
     Ok(RelaxOutcome {
         report,
         wall_s,

@@ -21,7 +21,7 @@
 //!   stitch's 7e-3 J: a quasi-static relaxation spends whole Newton solves
 //!   undoing it and the linen stitch stopped converging. At 10 the spring is
 //!   still ~1e6 N/m; a 1 N contact force opens a 1.3 um gap (0.2% of the
-//!   radius), which `cargo run --release --example relax_gaps` reports.
+//!   radius), which `cargo run --release --example relax_diagnose -- gaps` reports.
 //! - `kf`, `mu`: friction anchor spring (N/m) and Coulomb coefficient
 //!   (wool on wool 0.2-0.5). `kf` is soft next to the stretch stiffness
 //!   `ks / du ~ 3e4 N/m` so stick-slip does not dominate conditioning; a
@@ -100,7 +100,7 @@ impl RodParams {
     /// Diameter at `radius`: with one radius for every yarn
     /// (`sim::YarnRadii::Uniform`), the smallest Eulerian distance between
     /// parallel contacts; per-yarn radii use the sum of the two crossing
-    /// yarns' radii instead (`sim::system`).
+    /// yarns' radii instead (`sim::terms`).
     pub fn diameter(&self) -> f64 {
         2.0 * self.radius
     }

@@ -2,11 +2,10 @@
 //!
 //! A scene is data (JSON), so a run is reproducible from its files alone.
 //! Obstacles are signed distance fields with a stiff penalty; a scene that
-//! has none costs nothing for them (no stencils are built).
+//! has none costs nothing for them (no stencils are built). The obstacle
+//! energy itself is `rod::obstacle`.
 
-pub mod obstacle;
-
-pub use obstacle::{ObstaclePenalty, Shape};
+pub use crate::rod::obstacle::{ObstaclePenalty, Shape};
 
 use crate::sim::{SimParams, YarnRadii};
 use crate::topology::Fabric;

@@ -10,7 +10,7 @@
 //!
 //! **Segments.** The contact geometry is the rod's own: per yarn, the
 //! segments between consecutive non-EIL points (the stretch segments of
-//! `system.rs`). An EIL point is interpolated *on* such a segment (docs/MODEL.md,
+//! `terms::rod_segments`). An EIL point is interpolated *on* such a segment (docs/MODEL.md,
 //! "Kinematics"), so it adds no geometry and needs no stencil of its own; when EIL
 //! points change, the segment list changes with the next step. Reference
 //! distances `dbar` are rest arc lengths, `|u_b - u_a|` at the current `u`
@@ -32,7 +32,7 @@
 //! its barrier is exactly zero and leaving it out is exact. The line search
 //! cap enforces that trust radius; when it binds, the solve stops, the list
 //! is rebuilt at the current positions and Newton continues
-//! ([`minimize`]). The same cap includes additive CCD on every candidate
+//! (`sim::problem::solve`). The same cap includes additive CCD on every candidate
 //! pair, so no step can cross two segments (or pass inside a hard core).
 //!
 //! **Adaptive stiffness** (as in IPC; docs/MODEL.md, "Thickness contact"): at the start of each
@@ -45,117 +45,21 @@
 //! a yarn to a radius of about its thickness. kappa doubles (up to
 //! `kappa_max`) when the smallest gap keeps shrinking below `close_gap * h`.
 
-use super::params::SimParams;
-use super::problem::EolProblem;
-use super::system::Discretization;
 use crate::contact::barrier::{AdaptiveStiffness, BarrierShape};
 use crate::contact::exclusion::{ContactSide, JoinedSegments};
 use crate::contact::{ContactMode, ContactSegments, ContactSet, ContactStencil, ThicknessParams};
 use crate::energy::Stencil;
-use crate::solver::assembly::{AnyStencilSet, AssemblyError, StencilSet};
-use crate::solver::linear::LinearSolver;
-use crate::solver::newton::{self, NewtonError, NewtonHooks, NewtonParams, NewtonReport, NewtonStatus, Problem};
+use crate::sim::discretization::Discretization;
+use crate::sim::params::SimParams;
+use crate::solver::assembly::StencilSet;
 use crate::topology::PointRef;
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 type V3 = Vector3<f64>;
 
 /// Name of the contact stencil set in the problem.
 pub const CONTACT_SET: &str = "contact";
-
-/// The contact treatment, as scenes and the CLI spell it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ContactModeName {
-    None,
-    Penalty,
-    Barrier,
-    Culled,
-    #[default]
-    Filtered,
-}
-
-impl std::str::FromStr for ContactModeName {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "none" => Ok(Self::None),
-            "penalty" => Ok(Self::Penalty),
-            "barrier" => Ok(Self::Barrier),
-            "culled" => Ok(Self::Culled),
-            "filtered" => Ok(Self::Filtered),
-            _ => Err(format!(
-                "unknown contact mode '{s}' (none, penalty, barrier, culled, filtered)"
-            )),
-        }
-    }
-}
-
-/// Settings of non-persistent contact (see the module doc).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct ContactParams {
-    pub mode: ContactModeName,
-    /// Material thickness `h` (m); `None` = the thickest yarn's diameter
-    /// (`SimParams::yarn_radii`; `2 rod.radius` when all yarns share it).
-    pub thickness: Option<f64>,
-    /// Hard core `eta = core_fraction * h` of full-thickness pairs (docs/MODEL.md,
-    /// "Thickness contact"; 0 = single phase).
-    pub core_fraction: f64,
-    /// Culling window (segments) of the `culled` mode; default 11.
-    pub cull_window: u32,
-    /// Exclusion radius around persistent EoL contacts, in units of `h`.
-    pub eol_exclusion: f64,
-    /// Candidate margin in units of `h`: pairs within `(1 + margin) h` are
-    /// listed per solve; nodes may move `0.45 margin h` before a rebuild.
-    pub margin: f64,
-    /// `kappa_min = stiffness_scale * kb / h^3`.
-    pub stiffness_scale: f64,
-    /// `kappa_max = max_stiffness_factor * kappa_min`.
-    pub max_stiffness_factor: f64,
-    /// kappa doubles while the smallest gap shrinks below `close_gap * h`.
-    pub close_gap: f64,
-    /// Stiffness of the `penalty` mode (N/m).
-    pub penalty_stiffness: f64,
-}
-
-impl Default for ContactParams {
-    fn default() -> Self {
-        ContactParams {
-            mode: ContactModeName::Filtered,
-            thickness: None,
-            core_fraction: 0.0,
-            cull_window: 11,
-            eol_exclusion: 1.0,
-            margin: 1.0,
-            stiffness_scale: 1.0,
-            max_stiffness_factor: 1e4,
-            close_gap: 1e-3,
-            penalty_stiffness: 1e3,
-        }
-    }
-}
-
-impl ContactParams {
-    pub fn mode(&self) -> ContactMode {
-        match self.mode {
-            ContactModeName::None => ContactMode::None,
-            ContactModeName::Penalty => ContactMode::Penalty,
-            ContactModeName::Barrier => ContactMode::Barrier,
-            ContactModeName::Culled => ContactMode::Culled {
-                window: self.cull_window,
-            },
-            ContactModeName::Filtered => ContactMode::Filtered,
-        }
-    }
-
-    /// Thickness `h` for a yarn of radius `radius`.
-    pub fn thickness_for(&self, radius: f64) -> f64 {
-        self.thickness.unwrap_or(2.0 * radius)
-    }
-}
 
 /// Contact state carried from step to step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -180,7 +84,7 @@ pub struct ContactTerms {
     on_segment: Vec<bool>,
     pairs: Vec<([u32; 2], BarrierShape)>,
     /// Set when the trust radius capped a step: the list must be rebuilt.
-    pub restart: AtomicBool,
+    restart: AtomicBool,
 }
 
 fn nodes_of(v: &[f64], n_nodes: usize) -> Vec<V3> {
@@ -350,180 +254,34 @@ impl ContactTerms {
         }
         ccd.min(trust)
     }
-}
 
-impl EolProblem {
-    /// Adds the contact terms: picks kappa from the gradient balance, then
-    /// builds the contact stencil set and the new pattern.
-    pub fn attach_contact(&mut self, q: &[f64], mut terms: ContactTerms) -> Result<(), AssemblyError> {
-        if terms.candidate_count() > 0 {
-            let elastic = self.free_gradient(q)?;
-            let barrier = terms.unit_barrier_gradient(q, &self.free);
-            let kappa_min = terms.kappa;
-            let balanced = AdaptiveStiffness::balanced(kappa_min, terms.kappa_max, &elastic, &barrier);
-            terms.kappa = balanced.kappa;
+    /// Whether [`max_step`](Self::max_step) capped a step at the trust
+    /// radius since the list was built: the list must be rebuilt before
+    /// Newton goes on.
+    pub fn trust_exceeded(&self) -> bool {
+        self.restart.load(Ordering::Relaxed)
+    }
+
+    /// Picks kappa from the balance of the elastic free-row gradient
+    /// `elastic` against the barrier's at `q` (module doc).
+    pub fn balance_stiffness(&mut self, q: &[f64], elastic: &[f64], free: &[bool]) {
+        if self.candidate_count() > 0 {
+            let barrier = self.unit_barrier_gradient(q, free);
+            let kappa_min = self.kappa;
+            let balanced = AdaptiveStiffness::balanced(kappa_min, self.kappa_max, elastic, &barrier);
+            self.kappa = balanced.kappa;
         }
-        let set: Box<dyn AnyStencilSet> = Box::new(terms.stencil_set());
-        self.contact = Some(terms);
-        self.replace_set(CONTACT_SET, Some(set))
     }
 
     /// Rebuilds the candidate list at `q` (after the trust radius bound a
-    /// step) and doubles kappa if the gaps keep closing (IPC).
-    pub fn refresh_contact(&mut self, q: &[f64], prev_min_gap: f64) -> Result<f64, AssemblyError> {
-        let Some(terms) = self.contact.as_mut() else {
-            return Ok(f64::INFINITY);
-        };
-        terms.rebuild(q);
-        let gap = terms.min_gap(q);
-        if gap < terms.close_gap && gap < prev_min_gap {
-            terms.kappa = (2.0 * terms.kappa).min(terms.kappa_max.max(terms.kappa));
+    /// step) and doubles kappa if the gaps keep closing (IPC); returns the
+    /// smallest gap now.
+    pub fn refresh(&mut self, q: &[f64], prev_min_gap: f64) -> f64 {
+        self.rebuild(q);
+        let gap = self.min_gap(q);
+        if gap < self.close_gap && gap < prev_min_gap {
+            self.kappa = (2.0 * self.kappa).min(self.kappa_max.max(self.kappa));
         }
-        let set: Box<dyn AnyStencilSet> = Box::new(terms.stencil_set());
-        self.replace_set(CONTACT_SET, Some(set))?;
-        Ok(gap)
-    }
-}
-
-/// Newton on `problem`, rebuilding the contact candidates whenever the
-/// trust radius stops a step (module doc). Without contact this is exactly
-/// [`newton::minimize`]. The iteration cap covers all rounds together.
-pub fn minimize(
-    problem: &mut EolProblem,
-    q: &mut [f64],
-    solver: &mut LinearSolver,
-    params: &NewtonParams,
-    mut hooks: NewtonHooks<'_>,
-) -> Result<NewtonReport, NewtonError> {
-    if problem.contact.is_none() {
-        return newton::minimize(problem, q, solver, params, hooks);
-    }
-    let user_cancel = hooks.cancel;
-    let mut history = Vec::new();
-    let mut gap = f64::INFINITY;
-    loop {
-        let mut round = *params;
-        round.max_iterations = params.max_iterations.saturating_sub(history.len()).max(1);
-        let stop = AtomicBool::new(false);
-        let report = {
-            // Newton polls one flag: the user's cancel is copied into it
-            // after each iteration, the trust restart by `RestartOnTrust`.
-            let mut on_iter = |s: &newton::IterStats| {
-                if let Some(cb) = hooks.on_iteration.as_mut() {
-                    cb(s);
-                }
-                if user_cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                    stop.store(true, Ordering::Relaxed);
-                }
-            };
-            let round_hooks = NewtonHooks {
-                on_iteration: Some(&mut on_iter),
-                cancel: Some(&stop),
-                on_accepted: hooks.on_accepted.as_mut().map(|cb| &mut **cb as &mut dyn FnMut(&[f64])),
-            };
-            newton::minimize(
-                &mut RestartOnTrust { problem, stop: &stop },
-                q,
-                solver,
-                &round,
-                round_hooks,
-            )?
-        };
-        let user_stopped = user_cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-        let trust_hit = problem
-            .contact
-            .as_ref()
-            .is_some_and(|c| c.restart.load(Ordering::Relaxed));
-        history.extend(report.history);
-        let more = trust_hit
-            && !user_stopped
-            && matches!(report.status, NewtonStatus::Cancelled | NewtonStatus::Blocked)
-            && history.len() < params.max_iterations;
-        if !more {
-            let status = if trust_hit && report.status == NewtonStatus::Cancelled && !user_stopped {
-                NewtonStatus::MaxIterations
-            } else {
-                report.status
-            };
-            return Ok(NewtonReport {
-                status,
-                history,
-                energy: report.energy,
-            });
-        }
-        gap = problem.refresh_contact(q, gap)?;
-    }
-}
-
-/// Forwards to the problem and raises `stop` once a step was capped by the
-/// trust radius, so Newton returns after that iteration.
-struct RestartOnTrust<'a> {
-    problem: &'a mut EolProblem,
-    stop: &'a AtomicBool,
-}
-
-impl Problem for RestartOnTrust<'_> {
-    fn energy(&mut self, q: &[f64]) -> f64 {
-        self.problem.energy(q)
-    }
-    fn gradient_hessian(
-        &mut self,
-        q: &[f64],
-        g: &mut [f64],
-        h: &mut crate::sparse::CsrMatrix,
-    ) -> Result<(), AssemblyError> {
-        self.problem.gradient_hessian(q, g, h)
-    }
-    fn hessian_pattern(&self) -> crate::sparse::CsrMatrix {
-        self.problem.hessian_pattern()
-    }
-    fn free(&self) -> &[bool] {
-        self.problem.free()
-    }
-    fn max_step(&mut self, q: &[f64], dq: &[f64]) -> f64 {
-        let cap = self.problem.max_step(q, dq);
-        if self
-            .problem
-            .contact
-            .as_ref()
-            .is_some_and(|c| c.restart.load(Ordering::Relaxed))
-        {
-            self.stop.store(true, Ordering::Relaxed);
-        }
-        cap
-    }
-    fn bounds(&self, q: &[f64], lower: &mut [f64], upper: &mut [f64]) -> bool {
-        self.problem.bounds(q, lower, upper)
-    }
-    fn must_rediscretize(&self, q: &[f64]) -> bool {
-        self.problem.must_rediscretize(q)
-    }
-    fn blocks(&self) -> Vec<usize> {
-        self.problem.blocks()
-    }
-    fn ordering_groups(&self) -> Vec<u32> {
-        self.problem.ordering_groups()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn scene_keys_select_the_mode() {
-        let off: SimParams = serde_json::from_str("{}").expect("empty scene");
-        assert_eq!(off.contact, None, "contact is off unless a scene asks for it");
-        let on: SimParams = serde_json::from_str(r#"{"contact": {}}"#).expect("contact object");
-        assert_eq!(on.contact.as_ref().map(|c| c.mode()), Some(ContactMode::Filtered));
-        let culled: SimParams =
-            serde_json::from_str(r#"{"contact": {"mode": "culled", "cull_window": 5}}"#).expect("culled");
-        assert_eq!(
-            culled.contact.as_ref().map(|c| c.mode()),
-            Some(ContactMode::Culled { window: 5 })
-        );
-        assert!(serde_json::from_str::<SimParams>(r#"{"contact": {"mode": "tight"}}"#).is_err());
-        assert_eq!("barrier".parse(), Ok(ContactModeName::Barrier));
-        assert!("bogus".parse::<ContactModeName>().is_err());
+        gap
     }
 }
