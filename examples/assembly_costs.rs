@@ -34,14 +34,14 @@ fn main() -> anyhow::Result<()> {
     // As in `bench_relax`: `KNITSIM_BENCH_BENDING=split` times the
     // closed-form bending Hessian (the steps before run the default).
     if let Ok(model) = std::env::var("KNITSIM_BENCH_BENDING") {
-        sim.params.bending_hessian = model.parse().map_err(anyhow::Error::msg)?;
+        sim.params_mut().bending_hessian = model.parse().map_err(anyhow::Error::msg)?;
     }
-    let problem = sim.problem(Some((sim.h, &sim.q.clone())))?;
+    let problem = sim.problem(Some((sim.schedule().h, sim.q())))?;
     let mut h = problem.hessian_pattern();
-    let mut g = vec![0.0; sim.q.len()];
+    let mut g = vec![0.0; sim.q().len()];
     println!(
         "{name} {n}x{n} after {steps} steps, {} unknowns, {} threads",
-        sim.q.len(),
+        sim.q().len(),
         knitsim::parallel::threads()
     );
     println!("| stencil set | stencils | plain ms | projected ms | projection ms |");
@@ -52,7 +52,7 @@ fn main() -> anyhow::Result<()> {
         for (k, project) in [false, true].into_iter().enumerate() {
             for _ in 0..5 {
                 let t = Instant::now();
-                set.accumulate(&sim.q, &problem.free, &mut g, &mut h, project)?;
+                set.accumulate(sim.q(), &problem.free, &mut g, &mut h, project)?;
                 best[k] = best[k].min(t.elapsed().as_secs_f64());
             }
         }

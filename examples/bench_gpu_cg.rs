@@ -23,7 +23,7 @@ use clap::Parser;
 use knitsim::gpu::{GpuContext, GpuPcg, GpuPcgParams};
 #[cfg(feature = "gpu")]
 use knitsim::solver::linear::{pcg, BlockJacobi, CgParams};
-use knitsim::solver::sparse::CsrMatrix;
+use knitsim::sparse::CsrMatrix;
 use std::time::Instant;
 
 #[derive(Parser)]

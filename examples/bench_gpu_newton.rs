@@ -20,7 +20,7 @@ use clap::Parser;
 use knitsim::sim::{SimParams, Simulation};
 use knitsim::solver::linear::{pcg, BlockJacobi, CgParams, LinearSolver};
 use knitsim::solver::newton::Problem;
-use knitsim::solver::sparse::CsrMatrix;
+use knitsim::sparse::CsrMatrix;
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -54,7 +54,7 @@ fn swatch(side: usize) -> anyhow::Result<knitsim::topology::Fabric> {
 }
 
 fn dofs(side: usize) -> anyhow::Result<usize> {
-    Ok(knitsim::sim::dofs::DofLayout::new(&swatch(side)?).len())
+    Ok(knitsim::sim::discretization::dofs::DofLayout::new(&swatch(side)?).len())
 }
 
 /// Smallest square swatch with at least `target` unknowns (DOFs grow as side^2).
@@ -70,11 +70,11 @@ fn side_for(target: usize) -> anyhow::Result<usize> {
 /// Newton system of the first relax step: `(g, H, blocks)`.
 fn newton_system(side: usize) -> anyhow::Result<(Vec<f64>, CsrMatrix, Vec<usize>, f64)> {
     let sim = Simulation::new(swatch(side)?, SimParams::default(), LinearSolver::direct(), 1.0);
-    let mut problem = sim.problem(Some((sim.h, &sim.q)))?;
+    let mut problem = sim.problem(Some((sim.schedule().h, sim.q())))?;
     let mut h = problem.hessian_pattern();
-    let mut g = vec![0.0; sim.q.len()];
-    problem.gradient_hessian(&sim.q, &mut g, &mut h)?;
-    let assembly = seconds(|| problem.gradient_hessian(&sim.q, &mut g, &mut h))?;
+    let mut g = vec![0.0; sim.q().len()];
+    problem.gradient_hessian(sim.q(), &mut g, &mut h)?;
+    let assembly = seconds(|| problem.gradient_hessian(sim.q(), &mut g, &mut h))?;
     Ok((g, h, problem.blocks(), assembly))
 }
 

@@ -8,7 +8,7 @@
 //! This is a report, not a timed test: numbers depend on the machine.
 
 use knitsim::solver::linear::{pcg, BlockJacobi, CgParams, DirectSolver};
-use knitsim::solver::sparse::CsrMatrix;
+use knitsim::sparse::CsrMatrix;
 use std::time::Instant;
 
 /// Dirichlet Laplacian on an `m^dim` grid: diagonal `2 dim`, `-1` per

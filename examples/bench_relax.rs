@@ -4,7 +4,7 @@
 //! equilibrium (the default `RelaxOptions` tolerance), seconds per Newton
 //! iteration, peak resident memory, the final static residual, the relaxed
 //! energy and bounding box, and the relaxation steps (in brackets those
-//! that ended early at a closed segment, `sim::tripwire`); then the fitted exponent of seconds per iteration against DOFs.
+//! that ended early at a closed segment, `sim::problem::tripwire`); then the fitted exponent of seconds per iteration against DOFs.
 //!
 //! Each case runs in a child process so its peak memory (`VmHWM`) is its
 //! own. Not a test. Run with
@@ -241,10 +241,10 @@ fn orderings(sizes: &str, steps: usize) -> anyhow::Result<()> {
                 };
                 relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
             }
-            let mut problem = sim.problem(Some((sim.h, &sim.q.clone())))?;
+            let mut problem = sim.problem(Some((sim.schedule().h, sim.q())))?;
             let mut h = problem.hessian_pattern();
-            let mut g = vec![0.0; sim.q.len()];
-            problem.gradient_hessian(&sim.q, &mut g, &mut h)?;
+            let mut g = vec![0.0; sim.q().len()];
+            problem.gradient_hessian(sim.q(), &mut g, &mut h)?;
             let mut cells = Vec::new();
             for ordering in [Some(Ordering::Scalar), Some(Ordering::Grouped), None] {
                 let mut solver = DirectSolver::new(DirectParams {
@@ -289,7 +289,7 @@ fn fixed_steps(name: &str, n: usize, steps: usize) -> anyhow::Result<()> {
     let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {})?;
     println!(
         "{} {} {:.4}",
-        sim.q.len(),
+        sim.q().len(),
         rep.newton_iterations,
         t0.elapsed().as_secs_f64()
     );
@@ -359,7 +359,7 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
         params.bending_hessian = model.parse().map_err(anyhow::Error::msg)?;
     }
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
-    let dofs = sim.q.len();
+    let dofs = sim.q().len();
     let t0 = Instant::now();
     let mut phases = [0.0f64; 3];
     // `KNITSIM_BENCH_TRACE=1`: every Newton iteration and step on stderr.
@@ -400,7 +400,7 @@ fn run_case(name: &str, n: usize, seed: u64, stop_fraction: f64) -> anyhow::Resu
         phases[2],
         secs - phases.iter().sum::<f64>()
     );
-    let energy: f64 = sim.problem(None)?.breakdown(&sim.q).iter().map(|(_, e)| e).sum();
+    let energy: f64 = sim.problem(None)?.breakdown(sim.q()).iter().map(|(_, e)| e).sum();
     let extent = extent_mm(&sim.snapshot());
     println!(
         "| {name} | {n}x{n} | {nodes} | {dofs} | {} | {secs:.2} | {:.4} | {:.0} | {:.2e}{} | {energy:.4e} | {extent} | {} ({}) |",

@@ -14,7 +14,7 @@
 //! quasi-static step. The independent checker of `contact_support` looks
 //! for any pair of segments passing through each other along the path the
 //! simulation took: the pins' prescribed move, then every accepted Newton
-//! iterate (`Simulation::iterate_log`), each a straight-line motion.
+//! iterate (`Simulation::record_iterates`), each a straight-line motion.
 //!
 //! Why not a straight line from one step's end to the next: a step that
 //! rearranges the knot runs up to 50 Newton iterations, and the straight
@@ -109,8 +109,8 @@ fn pull(segments: usize, mode: ContactModeName, window: u32, steps: usize, per_s
     f.nodes[0].pinned = true;
     f.nodes[last].pinned = true;
     let mut sim = simulation(f, yarn_params(RADIUS, mode, window));
-    sim.newton.max_iterations = 50;
-    sim.iterate_log = Some(Vec::new());
+    sim.schedule_mut().newton.max_iterations = 50;
+    sim.record_iterates(true);
     let mut frame = positions(&sim);
     let width_before = width(&frame);
     let slack_before = slack(&frame);
@@ -121,7 +121,7 @@ fn pull(segments: usize, mode: ContactModeName, window: u32, steps: usize, per_s
     for _ in 0..steps {
         for (node, dir) in [(0, dir_a), (last, dir_b)] {
             for k in 0..3 {
-                sim.q[3 * node + k] += dir[k] * per_step;
+                sim.q_mut()[3 * node + k] += dir[k] * per_step;
             }
         }
         // Moving the pins is part of the motion the checker sees.
@@ -131,7 +131,7 @@ fn pull(segments: usize, mode: ContactModeName, window: u32, steps: usize, per_s
         };
         done += 1;
         let next = positions(&sim);
-        let iterates = sim.iterate_log.as_mut().map(std::mem::take).unwrap_or_default();
+        let iterates = sim.take_iterates();
         path.extend(iterates.iter().map(|q| positions_of(&sim, q)));
         // The step ends on its last iterate.
         assert_eq!(path.last(), Some(&next), "step {done}");

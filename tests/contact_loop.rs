@@ -58,7 +58,7 @@ fn relax_loop(mode: ContactModeName) -> LoopResult {
     f.nodes[0].pinned = true;
     f.nodes[last].pinned = true;
     let mut sim = simulation(f, yarn_params(RADIUS, mode, 11));
-    sim.newton.max_iterations = 50;
+    sim.schedule_mut().newton.max_iterations = 50;
     let rest_length = arc_length(&pts);
     let mut frame = positions(&sim);
     let (mut count, mut min_sep) = (0, start_sep);

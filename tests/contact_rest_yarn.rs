@@ -23,7 +23,7 @@ fn rest_yarn(mode: ContactModeName) -> (f64, f64, f64) {
     let mut sim = simulation(polyline_fabric(&pts, RADIUS), yarn_params(RADIUS, mode, 11));
     let contact_energy = |sim: &knitsim::sim::Simulation| {
         let p = sim.problem(None).expect("problem");
-        p.breakdown(&sim.q)
+        p.breakdown(sim.q())
             .into_iter()
             .filter(|(n, _)| n == "contact")
             .map(|(_, e)| e)

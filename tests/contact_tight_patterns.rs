@@ -70,7 +70,7 @@ fn linen(mode: ContactModeName) -> (Run, f64) {
 /// tight fabric ends pressed into its barriers (smallest separation under 1%
 /// of the thickness) and 25 steps do not reach equilibrium.
 ///
-/// This run found a bug in the EIL state transfer (`sim::transfer`): a
+/// This run found a bug in the EIL state transfer (`sim::discretization::transfer`): a
 /// contact node whose points were both EIL was placed with the old, clamped
 /// interpolation when they turned real, exactly onto a neighbour that one of
 /// them had slid past. The zero-length segment made two touching segments a
@@ -136,13 +136,13 @@ fn press(mode: ContactModeName, rest: f64) -> (Run, f64, f64) {
     let plate = move |k: usize| from + (to - from) * (k + 1) as f64 / PRESS_STEPS as f64;
     let p = params(&fabric, mode, true);
     let r = run(fabric, p, PRESS_STEPS, &mut |sim, k| {
-        sim.params.obstacles = vec![Shape::Plane {
+        sim.params_mut().obstacles = vec![Shape::Plane {
             point: [0.0, 0.0, plate(k)],
             normal: [0.0, 0.0, -1.0],
         }];
     });
-    let segs = Segments::new(&r.sim, &r.sim.assignment, &r.sim.q, 0.0);
-    let x = fabric_frames::node_positions(&r.sim, &r.sim.q);
+    let segs = Segments::new(&r.sim, r.sim.assignment(), r.sim.q(), 0.0);
+    let x = fabric_frames::node_positions(&r.sim, r.sim.q());
     let upper = |i: usize| segs.yarn[i] >= bottom_yarns;
     let sep = contact_support::min_separation_where(&x, &segs.segs, |i, j| upper(i) == upper(j));
     eprintln!(

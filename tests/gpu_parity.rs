@@ -13,7 +13,7 @@
 
 use knitsim::gpu::{adapter_required, GpuContext, GpuPcg, GpuPcgParams};
 use knitsim::solver::linear::{pcg, BlockJacobi, CgParams, GpuSolver};
-use knitsim::solver::sparse::CsrMatrix;
+use knitsim::sparse::CsrMatrix;
 
 const SUM_TOL: f64 = 1e-5;
 

@@ -8,7 +8,7 @@
 //!   ends). With friction the equilibrium depends on the path: the Coulomb
 //!   anchors follow each step's end state. So this passes only if the GPU
 //!   Newton steps match the direct ones, which is what the mixed-precision
-//!   refinement of `solver::linear::gpu` is for (without it the 4x4 swatch
+//!   refinement of `solver::linear::gpu_solver` is for (without it the 4x4 swatch
 //!   ends 27% of a radius away, docs/GPU.md "Parity test"). 2x2 because
 //!   llvmpipe needs about 3 minutes for it (about 3000 f32 CG iterations
 //!   per Newton solve at 228 unknowns).
@@ -87,7 +87,7 @@ fn relaxed(
     let start = Instant::now();
     let (fabric, params) = scene();
     let mut sim = Simulation::new(fabric, params, solver, options.h_initial);
-    eprintln!("{name}: {} unknowns", sim.q.len());
+    eprintln!("{name}: {} unknowns", sim.q().len());
     let report = relax(&mut sim, options, None, &mut |_, _| {}, &mut |_, _| {}).expect("relax runs");
     eprintln!(
         "{name}: {} steps, {} Newton iterations, residual {:.2e}, {:.1} s",

@@ -112,12 +112,12 @@ fn slide(theta_deg: f64, steps: usize, h: f64) -> Vec<f64> {
     p.rod.mu = 1.0;
     p.rod.gravity = Vec3::new(theta.sin(), 0.0, -theta.cos()) * G;
     let mut sim = Simulation::new(f, p, LinearSolver::direct(), h);
-    let u0: Vec<f64> = points.iter().map(|&pr| sim.q[sim.layout.u(pr)]).collect();
+    let u0: Vec<f64> = points.iter().map(|&pr| sim.q()[sim.layout().u(pr)]).collect();
     let mean_slide = |sim: &Simulation| {
         let moved: f64 = points
             .iter()
             .zip(&u0)
-            .map(|(&pr, u0)| u0 - sim.q[sim.layout.u(pr)])
+            .map(|(&pr, u0)| u0 - sim.q()[sim.layout().u(pr)])
             .sum();
         moved / points.len() as f64
     };
@@ -128,7 +128,7 @@ fn slide(theta_deg: f64, steps: usize, h: f64) -> Vec<f64> {
             .unwrap_or_else(|e| panic!("{theta_deg} deg, step {k}: {e}"));
         assert!(r.converged, "{theta_deg} deg, step {k}: Newton did not converge");
         assert_eq!(r.h, h, "the step had to shrink");
-        assert!(sim.q.iter().all(|v| v.is_finite()));
+        assert!(sim.q().iter().all(|v| v.is_finite()));
         trace.push(mean_slide(&sim));
     }
     trace

@@ -86,7 +86,7 @@ fn run(enable_eil: bool) -> Outcome {
     };
     let h = 1e-3;
     let mut sim = Simulation::new(f, p, LinearSolver::direct(), h);
-    sim.h_min = h / 64.0;
+    sim.schedule_mut().h_min = h / 64.0;
     let (steps, travel) = (80, 0.012);
     let mut out = Outcome {
         completed: true,
@@ -99,7 +99,7 @@ fn run(enable_eil: bool) -> Outcome {
         // Prescribed motion: A's ends move +x, B's ends -x.
         for (ends, sign) in [(ends_a, 1.0), (ends_b, -1.0)] {
             for n in ends {
-                sim.q[3 * n] += sign * travel / steps as f64;
+                sim.q_mut()[3 * n] += sign * travel / steps as f64;
             }
         }
         match sim.step(true, None, &mut |_, _| {}) {
@@ -107,7 +107,7 @@ fn run(enable_eil: bool) -> Outcome {
                 out.max_iters_per_step = out.max_iters_per_step.max(r.newton_iterations);
                 out.min_h = out.min_h.min(r.h);
                 out.max_eil = out.max_eil.max(r.eil_count);
-                assert!(sim.q.iter().all(|v| v.is_finite()));
+                assert!(sim.q().iter().all(|v| v.is_finite()));
             }
             Err(_) => {
                 out.completed = false;
@@ -118,14 +118,14 @@ fn run(enable_eil: bool) -> Outcome {
     let e = sim
         .problem(None)
         .unwrap()
-        .breakdown(&sim.q)
+        .breakdown(sim.q())
         .iter()
         .map(|(_, e)| e)
         .sum::<f64>();
-    let l = &sim.layout;
+    let l = sim.layout();
     let (u1, u2) = (
-        sim.q[l.u(PointRef { yarn: 0, point: 1 })],
-        sim.q[l.u(PointRef { yarn: 0, point: 2 })],
+        sim.q()[l.u(PointRef { yarn: 0, point: 1 })],
+        sim.q()[l.u(PointRef { yarn: 0, point: 2 })],
     );
     out.crossed = u1 > u2;
     if out.completed {

@@ -20,8 +20,14 @@ use std::path::Path;
 mod common;
 use common::small_fabric;
 
+/// The settings of a simulation's own schedule that relaxation must not change.
+fn schedule_of(sim: &Simulation) -> (usize, f64, f64, f64) {
+    let s = sim.schedule();
+    (s.newton.max_iterations, s.newton.max_force_tol, s.h, s.h_max)
+}
+
 fn potential(sim: &Simulation) -> f64 {
-    sim.problem(None).unwrap().energy(&sim.q)
+    sim.problem(None).unwrap().energy(sim.q())
 }
 
 fn check_contacts(f: &Fabric, name: &str) {
@@ -79,7 +85,7 @@ fn relax_fabric(path: &Path, looseness: &str, shape_gap: f64, params: SimParams)
     let n_contacts = fabric.contacts.len();
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let e0 = potential(&sim);
-    let before = (sim.newton.max_iterations, sim.newton.max_force_tol, sim.h, sim.h_max);
+    let before = schedule_of(&sim);
     let mut held = 0;
     let rep = relax(
         &mut sim,
@@ -90,21 +96,21 @@ fn relax_fabric(path: &Path, looseness: &str, shape_gap: f64, params: SimParams)
     )
     .unwrap();
     // Relaxation's Newton settings and pseudo time step do not leak out.
-    let after = (sim.newton.max_iterations, sim.newton.max_force_tol, sim.h, sim.h_max);
+    let after = schedule_of(&sim);
     assert_eq!(before, after, "{name}: relax left its settings on the simulation");
     let e1 = potential(&sim);
     let max_gap = sim.eil_gaps().into_iter().fold(0.0f64, f64::max);
-    let radius = sim.params.rod.radius;
+    let radius = sim.params().rod.radius;
     let line = format!(
         "{name:32} {:6} dofs {:3} steps {:4} its residual {:.2e} energy {e0:.3e} -> {e1:.3e} max EIL gap {:.2}% of r",
-        sim.q.len(),
+        sim.q().len(),
         rep.steps,
         rep.newton_iterations,
         rep.residual,
         100.0 * max_gap / radius
     );
     println!("{line}");
-    assert!(sim.q.iter().all(|v| v.is_finite()), "{name}: NaN in the state");
+    assert!(sim.q().iter().all(|v| v.is_finite()), "{name}: NaN in the state");
     let out = sim.snapshot();
     assert_eq!(out.contacts.len(), n_contacts, "{name}: contacts removed");
     check_contacts(&out, &name);
@@ -260,11 +266,11 @@ fn relaxation_keeps_its_eil_points_and_restores_the_release_rule() {
     // Steps of a relaxation: (points ever EIL, points released).
     let run = |opts: &RelaxOptions| {
         let mut sim = Simulation::new(fabric.clone(), params.clone(), LinearSolver::direct(), opts.h_initial);
-        knitsim::sim::configure_relax(&mut sim, opts);
-        let (mut seen, mut released) = (vec![false; sim.assignment.eil.len()], 0);
+        let mut schedule = knitsim::sim::relax_schedule(&sim, opts);
+        let (mut seen, mut released) = (vec![false; sim.assignment().eil.len()], 0);
         for _ in 0..8 {
-            sim.step(false, None, &mut |_, _| {}).unwrap();
-            for (s, &e) in seen.iter_mut().zip(&sim.assignment.eil) {
+            sim.step_with(&mut schedule, false, None, &mut |_, _| {}).unwrap();
+            for (s, &e) in seen.iter_mut().zip(&sim.assignment().eil) {
                 released += usize::from(*s && !e);
                 *s |= e;
             }
@@ -284,5 +290,6 @@ fn relaxation_keeps_its_eil_points_and_restores_the_release_rule() {
     let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
     let short = RelaxOptions { max_steps: 3, ..opts };
     relax(&mut sim, short, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
-    assert_eq!(sim.params.assign.release_fraction, release);
+    assert_eq!(sim.params().assign.release_fraction, release);
+    assert!(!sim.schedule().keep_eil);
 }

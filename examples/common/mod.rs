@@ -64,12 +64,12 @@ pub fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabri
 }
 
 /// A simulation of the shipped pattern `name` at `n x n` stitches, jittered
-/// by `seed`, set up for the default relaxation schedule
-/// (`sim::configure_relax`): what the step-by-step diagnostics start from,
-/// so that they follow `sim::relax`'s path.
+/// by `seed`, whose own schedule is the default relaxation schedule
+/// (`sim::relax_schedule`): what the step-by-step diagnostics start from,
+/// so that `Simulation::step` follows `sim::relax`'s path.
 #[allow(dead_code)]
 pub fn relaxing(name: &str, n: usize, seed: u64) -> anyhow::Result<knitsim::sim::Simulation> {
-    use knitsim::sim::{configure_relax, RelaxOptions, Simulation};
+    use knitsim::sim::{relax_schedule, RelaxOptions, Simulation};
     let mut fabric = compiled(name, n)?;
     jitter(&mut fabric, seed);
     let opts = RelaxOptions::default();
@@ -80,6 +80,6 @@ pub fn relaxing(name: &str, n: usize, seed: u64) -> anyhow::Result<knitsim::sim:
         knitsim::solver::linear::LinearSolver::direct(),
         opts.h_initial,
     );
-    configure_relax(&mut sim, &opts);
+    *sim.schedule_mut() = relax_schedule(&sim, &opts);
     Ok(sim)
 }

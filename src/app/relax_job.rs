@@ -13,8 +13,7 @@ use super::summary::Summary;
 use crate::io::{
     save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
-use crate::sim::removal::RemovalCause;
-use crate::sim::{relax, RelaxOptions, RelaxReport, SimError, SimParams, Simulation};
+use crate::sim::{relax, RelaxOptions, RelaxReport, RemovalCause, SimError, SimParams, Simulation};
 use crate::solver::linear::LinearSolver;
 use crate::topology::{Fabric, SimInfo, StitchGrid};
 use std::io::Write;
@@ -60,9 +59,9 @@ pub struct RelaxOutcome {
     pub wall_s: f64,
     pub rows: Vec<CsvRow>,
     pub fabric: Fabric,
-    /// Contacts removed because a yarn was pulled out of them (`sim::removal`).
+    /// Contacts removed because a yarn was pulled out of them (`sim::events::removal`).
     pub slid_off_contacts: usize,
-    /// Contacts removed because their yarns pulled apart (`sim::separation`).
+    /// Contacts removed because their yarns pulled apart (`sim::events::separation`).
     pub separated_contacts: usize,
     /// Points whose kind the next re-assignment would change
     /// (`Simulation::pending_kind_changes`).
@@ -87,7 +86,7 @@ pub fn run_relax(
     let start = Instant::now();
     let grid = StitchGrid::of(&fabric);
     let mut sim = Simulation::new(fabric, job.params, job.solver, job.options.h_initial);
-    let scale = crate::sim::ForceScale::of(&sim.fabric, &sim.params).value;
+    let scale = crate::sim::ForceScale::of(sim.fabric(), sim.params()).value;
     let mut rows = Vec::new();
     let step = std::cell::Cell::new(0usize);
     let report = {
@@ -111,7 +110,7 @@ pub fn run_relax(
     let wall_s = start.elapsed().as_secs_f64();
     let mut out = sim.snapshot();
     out.sim = Some(SimInfo {
-        time: sim.time,
+        time: sim.time(),
         newton_iterations: report.newton_iterations,
         residual: report.residual,
     });
@@ -119,7 +118,7 @@ pub fn run_relax(
     let summary = Summary::new(&out, &grid, &report, job.options.tol, energy, wall_s);
     write_outputs(&out, &job.out_dir, &rows)?;
     summary.write(&job.out_dir.join("summary.json"))?;
-    let count = |which: fn(&RemovalCause) -> bool| sim.removed.iter().filter(|r| which(&r.cause)).count();
+    let count = |which: fn(&RemovalCause) -> bool| sim.removed().iter().filter(|r| which(&r.cause)).count();
     Ok(RelaxOutcome {
         report,
         wall_s,

@@ -254,7 +254,7 @@ fn relax(
             ..params.contact.unwrap_or_default()
         });
     }
-    let n_dofs = knitsim::sim::dofs::DofLayout::new(&fabric).len();
+    let n_dofs = knitsim::sim::discretization::dofs::DofLayout::new(&fabric).len();
     let selection = select(solver.into(), n_dofs, &AutoParams::default())?;
     eprintln!("{}", selection.note);
     let solver = selection.solver;

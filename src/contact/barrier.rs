@@ -165,7 +165,7 @@ impl AdaptiveStiffness {
     /// The least-squares balance of the two gradients (see [`Self::initial`])
     /// clamped to caller-given bounds. Quasi-static solves have no mass
     /// scale, so the simulator derives its bounds from the bending
-    /// stiffness instead (`sim::contact_terms`).
+    /// stiffness instead (`sim::terms::thickness_contact`).
     pub fn balanced(kappa_min: f64, kappa_max: f64, grad_energy: &[f64], grad_barrier: &[f64]) -> Self {
         let gb2: f64 = grad_barrier.iter().map(|g| g * g).sum();
         let ge_gb: f64 = grad_energy.iter().zip(grad_barrier).map(|(e, b)| e * b).sum();

@@ -21,7 +21,7 @@
 //!
 //! [`exclusion`] drops pairs joined by a persistent EoL contact. The wiring
 //! into the simulator (candidate lists per solve, adaptive stiffness, the
-//! CCD line-search cap) is `sim::contact_terms`; docs/CONTACT.md gives the
+//! CCD line-search cap) is `sim::terms::thickness_contact`; docs/CONTACT.md gives the
 //! user-level view.
 //!
 //! Reference values: `tests/contact_ipctk.rs` compares barrier, distances

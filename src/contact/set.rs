@@ -148,7 +148,7 @@ impl ContactSet {
     /// Every kept pair whose segments are closer than `reach` (at least the
     /// thickness) at `x`, active or not: the candidate list of a solve that
     /// keeps its Hessian pattern while positions move by less than
-    /// `(reach - thickness) / 2` (see `sim::contact_terms`).
+    /// `(reach - thickness) / 2` (see `sim::terms::thickness_contact`).
     pub fn candidates(&self, x: &[V3], reach: f64) -> Vec<([u32; 2], BarrierShape)> {
         if self.mode == ContactMode::None {
             return Vec::new();

@@ -38,8 +38,7 @@ use super::kernels::cg_scalars::{CgScalars, Status};
 use super::kernels::spmv::CsrBuffers;
 use super::kernels::Kernels;
 use super::plan::{Plan, Vectors};
-use crate::solver::linear::{BlockJacobi, CgResult};
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::{BlockJacobi, CgResult, CsrMatrix};
 
 #[derive(Clone, Copy, Debug)]
 pub struct GpuPcgParams {

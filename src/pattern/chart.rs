@@ -21,10 +21,10 @@ use nom::{IResult, Parser};
 use super::document::{is_name_char, Section};
 use super::error::{ErrorKind, Warning, WarningKind};
 use super::legend::{Legend, RESERVED};
+use super::limits::Limits;
 use super::meta::MetaSpec;
 use super::model::Stitch;
 use super::source::{located, Line, Pos, Result, Source};
-use super::validate::Limits;
 
 /// One expanded row, fabric view, with where each stitch came from.
 #[derive(Clone, Debug)]

@@ -18,7 +18,7 @@ use nom::Parser;
 use super::document::MetaLine;
 use super::error::{ErrorKind, Warning};
 use super::model::{Construction, Gauge, YarnSpec};
-use super::source::{located, Line, Pos, Result, Source};
+use super::source::{located, positive, syntax, Pos, Result, Source};
 use super::yarn::{parse_yarn, PendingYarn};
 
 /// Yarn radius when a pattern gives none, in stitch widths.
@@ -41,25 +41,6 @@ pub(crate) struct MetaSpec {
 impl MetaSpec {
     pub fn yarn_index(&self, name: &str) -> Option<usize> {
         self.yarns.iter().position(|y| y.name == name)
-    }
-}
-
-pub(super) fn syntax(src: &Source, line: Line, at: &str, expected: &str) -> super::error::PatternError {
-    let token = at.trim();
-    let pos = if token.is_empty() {
-        line.pos(at, 1)
-    } else {
-        line.at(token)
-    };
-    src.error(ErrorKind::Syntax(format!("expected {expected}")), pos)
-}
-
-/// A positive finite number at `pos`, else `bad(message)`.
-pub(super) fn positive(value: f64, what: &str) -> std::result::Result<f64, String> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(format!("{what} must be a positive number, got {value}"))
     }
 }
 

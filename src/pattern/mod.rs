@@ -18,6 +18,7 @@ mod document;
 mod encoding;
 mod error;
 mod legend;
+mod limits;
 mod meta;
 pub mod model;
 mod source;
@@ -28,8 +29,8 @@ mod yarn;
 use std::path::Path;
 
 pub use error::{ErrorKind, PatternError, Site, Warning, WarningKind};
+pub use limits::Limits;
 pub use model::*;
-pub use validate::Limits;
 
 use chart::GridRow;
 use source::{Result, Source};

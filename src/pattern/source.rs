@@ -149,6 +149,27 @@ where
 /// Shorthand for a located result inside the parser.
 pub(crate) type Result<T> = std::result::Result<T, PatternError>;
 
+/// A syntax error at the first token of `at` (or its start when blank):
+/// "expected {expected}".
+pub(super) fn syntax(src: &Source, line: Line, at: &str, expected: &str) -> PatternError {
+    let token = at.trim();
+    let pos = if token.is_empty() {
+        line.pos(at, 1)
+    } else {
+        line.at(token)
+    };
+    src.error(ErrorKind::Syntax(format!("expected {expected}")), pos)
+}
+
+/// `value` when it is a positive finite number, else a message naming `what`.
+pub(super) fn positive(value: f64, what: &str) -> std::result::Result<f64, String> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(format!("{what} must be a positive number, got {value}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -13,7 +13,7 @@ use nom::Parser;
 
 use super::document::MetaLine;
 use super::error::ErrorKind;
-use super::meta::{positive, syntax};
+use super::source::{positive, syntax};
 use super::source::{Line, Pos, Result, Source};
 
 #[derive(Debug)]

@@ -17,13 +17,15 @@
 //! | friction | [`friction::FrictionSpring`] | `[u]` | 1 | "Friction anchors" |
 //! | wrapping | [`wrapping::Wrapping`] | `[a_prev, p, q, a_next, b_prev, b_next]` | 18 | "Wrapping" |
 //! | shear | [`shear::Shear`] | `[a_prev, a_next, b_prev, b_next]` | 12 | "Crossing shear" |
-//! | parallel contact | [`parallel::ParallelContact`] | `[u1, u2]` | 2 | "Parallel-yarn contact" |
+//! | parallel contact | [`parallel_contact::ParallelContact`] | `[u1, u2]` | 2 | "Parallel-yarn contact" |
 //! | gravity | [`gravity::NodeGravity`], [`gravity::SegmentGravity`] | `[x]`, `[x_a, u_a, x_b, u_b]` | 3, 8 | "Gravity and obstacles" |
+//! | obstacle | [`obstacle::ObstaclePenalty`] | `[x]` | 3 | "Gravity and obstacles" |
 //! | soft pin | [`pin::SoftPin`] | `[x]` | 3 | - |
 //!
 //! The inertia of an EoL segment is not a potential; [`mass::segment_mass`]
 //! gives its 8x8 mass matrix on `(xdot_a, udot_a, xdot_b, udot_b)`
-//! (docs/MODEL.md, "Segment mass matrix"). Damping lives in the incremental potential; see
+//! (docs/MODEL.md, "Segment mass matrix"), and [`inertia::Inertia`] the
+//! incremental potential's quadratic term built on it. Damping lives in the incremental potential; see
 //! [`damping`].
 //!
 //! Angles are the delicate part: the bending angle is smooth in `theta^2` at
@@ -42,9 +44,11 @@ pub mod damping;
 pub mod eil;
 pub mod friction;
 pub mod gravity;
+pub mod inertia;
 pub mod jet;
 pub mod mass;
-pub mod parallel;
+pub mod obstacle;
+pub mod parallel_contact;
 pub mod params;
 pub mod pin;
 pub mod shear;

@@ -21,7 +21,7 @@
 //!   stitch's 7e-3 J: a quasi-static relaxation spends whole Newton solves
 //!   undoing it and the linen stitch stopped converging. At 10 the spring is
 //!   still ~1e6 N/m; a 1 N contact force opens a 1.3 um gap (0.2% of the
-//!   radius), which `cargo run --release --example relax_gaps` reports.
+//!   radius), which `cargo run --release --example relax_diagnose -- gaps` reports.
 //! - `kf`, `mu`: friction anchor spring (N/m) and Coulomb coefficient
 //!   (wool on wool 0.2-0.5). `kf` is soft next to the stretch stiffness
 //!   `ks / du ~ 3e4 N/m` so stick-slip does not dominate conditioning; a
@@ -44,40 +44,40 @@ pub struct RodParams {
     /// Yarn radius (m); the parallel-contact distance is the diameter.
     /// `knitsim` sets it from the pattern's thickest yarn unless a scene
     /// gives it (`scene::params_for`).
-    #[serde(deserialize_with = "crate::scene::positive")]
+    #[serde(deserialize_with = "crate::checked::positive")]
     pub radius: f64,
     /// Axial stiffness `EA` (N).
-    #[serde(deserialize_with = "crate::scene::positive")]
+    #[serde(deserialize_with = "crate::checked::positive")]
     pub ks: f64,
     /// Bending rigidity `EI` (N m^2).
-    #[serde(deserialize_with = "crate::scene::positive")]
+    #[serde(deserialize_with = "crate::checked::positive")]
     pub kb: f64,
     /// EIL contact stiffness as a multiple of `ks / du_rest`.
-    #[serde(deserialize_with = "crate::scene::positive")]
+    #[serde(deserialize_with = "crate::checked::positive")]
     pub kc_factor: f64,
     /// Friction anchor spring stiffness (N/m of Eulerian slip).
-    #[serde(deserialize_with = "crate::scene::non_negative")]
+    #[serde(deserialize_with = "crate::checked::non_negative")]
     pub kf: f64,
     /// Coulomb friction coefficient.
-    #[serde(deserialize_with = "crate::scene::non_negative")]
+    #[serde(deserialize_with = "crate::checked::non_negative")]
     pub mu: f64,
     /// Wrapping stiffness (J/rad^2).
-    #[serde(deserialize_with = "crate::scene::non_negative")]
+    #[serde(deserialize_with = "crate::checked::non_negative")]
     pub kw: f64,
     /// Crossing shear stiffness (J/rad^2).
-    #[serde(deserialize_with = "crate::scene::non_negative")]
+    #[serde(deserialize_with = "crate::checked::non_negative")]
     pub ksh: f64,
     /// Shear deviation from rest where jamming starts (rad).
-    #[serde(deserialize_with = "crate::scene::non_negative")]
+    #[serde(deserialize_with = "crate::checked::non_negative")]
     pub shear_jam_angle: f64,
     /// Jamming stiffening rate (1/rad).
-    #[serde(deserialize_with = "crate::scene::non_negative")]
+    #[serde(deserialize_with = "crate::checked::non_negative")]
     pub shear_jam_gain: f64,
     /// Parallel-contact penalty stiffness (N/m).
-    #[serde(deserialize_with = "crate::scene::non_negative")]
+    #[serde(deserialize_with = "crate::checked::non_negative")]
     pub kp: f64,
     /// Linear density (kg/m).
-    #[serde(deserialize_with = "crate::scene::positive")]
+    #[serde(deserialize_with = "crate::checked::positive")]
     pub rho: f64,
     /// Gravitational acceleration (m/s^2).
     pub gravity: Vector3<f64>,
@@ -112,7 +112,7 @@ impl RodParams {
     /// Diameter at `radius`: with one radius for every yarn
     /// (`sim::YarnRadii::Uniform`), the smallest Eulerian distance between
     /// parallel contacts; per-yarn radii use the sum of the two crossing
-    /// yarns' radii instead (`sim::system`).
+    /// yarns' radii instead (`sim::terms`).
     pub fn diameter(&self) -> f64 {
         2.0 * self.radius
     }

@@ -2,7 +2,8 @@
 //!
 //! A scene is data (JSON), so a run is reproducible from its files alone.
 //! Obstacles are signed distance fields with a stiff penalty; a scene that
-//! has none costs nothing for them (no stencils are built).
+//! has none costs nothing for them (no stencils are built). The obstacle
+//! energy itself is `rod::obstacle`.
 //!
 //! A scene is checked as it is read, and every error names the file, line
 //! and column of the offending value (a UTF-8 byte-order mark is allowed):
@@ -16,7 +17,7 @@
 //!   `stiffness_scale`, `max_stiffness_factor`, `penalty_stiffness`) are
 //!   above 0; the other scalars (`mu`, `kf`, `kw`, `ksh`, `kp`, the shear
 //!   jamming pair, the `assign` fractions, `separation.min_pull`, the
-//!   remaining `contact` factors) are 0 or above (`checked`);
+//!   remaining `contact` factors) are 0 or above (`crate::checked`);
 //! - obstacles: a sphere's radius and a box's half extents are above 0, a
 //!   plane's normal is not `[0, 0, 0]` (`shape_json`);
 //! - `assign.stop_fraction` and `assign.close_fraction` are below
@@ -25,14 +26,10 @@
 //!
 //! Scenes name no nodes: pins are part of the fabric (`Node::pinned`).
 
-mod checked;
 mod locate;
-pub mod obstacle;
 mod shape_json;
 
-pub(crate) use checked::{non_negative, optional_positive, positive};
-
-pub use obstacle::{ObstaclePenalty, Shape};
+pub use crate::rod::obstacle::{ObstaclePenalty, Shape};
 
 use crate::sim::{SimParams, YarnRadii};
 use crate::topology::Fabric;

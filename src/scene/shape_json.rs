@@ -16,8 +16,8 @@ use std::fmt;
 
 use serde::de::{Deserialize, Deserializer, Error, MapAccess, SeqAccess, Visitor};
 
-use super::checked;
-use super::obstacle::Shape;
+use crate::checked;
+use crate::rod::obstacle::Shape;
 
 const KEYS: &[&str] = &["type", "center", "radius", "point", "normal", "half_extents"];
 

@@ -32,7 +32,7 @@
 //!
 //! A step also ends early at the first iterate where a real segment has
 //! closed to `assign.close_fraction` (1e-5) of a rest segment
-//! (`sim::tripwire`): the next re-assignment makes that point EIL, where
+//! (`sim::problem::tripwire`): the next re-assignment makes that point EIL, where
 //! iterating on would only stiffen the closed segment's stretch without
 //! bound (docs/RELAX.md, "Closed segments").
 //!
@@ -55,7 +55,8 @@
 //! "Keeping EIL points").
 
 use super::force_scale::ForceScale;
-use super::simulation::{SimError, Simulation};
+use super::schedule::Schedule;
+use super::stepper::{SimError, Simulation};
 use crate::solver::newton::IterStats;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -76,9 +77,9 @@ pub struct RelaxOptions {
     /// not be solved tighter than the continuation moves them.
     pub newton_rel_tol: f64,
     /// Keep every EIL point EIL until the relaxation ends: no EIL-to-EoL
-    /// re-initialisation between relaxation steps (`relax` sets
-    /// `AssignParams::release_fraction` to infinity and restores it after,
-    /// so dynamics keeps releasing). Opt-in; see the module docs.
+    /// re-initialisation between relaxation steps (`Schedule::keep_eil`;
+    /// the simulation's own schedule keeps releasing). Opt-in; see the
+    /// module docs.
     pub keep_eil: bool,
 }
 
@@ -108,16 +109,17 @@ pub struct RelaxReport {
     pub converged: bool,
     pub cancelled: bool,
     pub max_eil: usize,
-    /// Steps that ended early at a closed segment (`sim::tripwire`).
+    /// Steps that ended early at a closed segment (`sim::problem::tripwire`).
     pub closed_segment_steps: usize,
 }
 
 /// Relaxes `sim` in place. `on_iter` sees every Newton iteration with the
-/// current EIL count; `on_step` every accepted step with the static residual.
+/// current EIL count; `on_step` every accepted step with the static
+/// residual over the force scale.
 ///
-/// The Newton parameters and time-step bounds relaxation needs are set for
-/// the run and put back afterwards (also after an error), so a caller that
-/// goes on to simulate dynamics with the same `Simulation` gets its own.
+/// The steps run on a schedule of their own ([`schedule`]), so a caller
+/// that goes on to simulate dynamics with the same `Simulation` keeps its
+/// own.
 pub fn relax(
     sim: &mut Simulation,
     opts: RelaxOptions,
@@ -125,62 +127,59 @@ pub fn relax(
     on_iter: &mut dyn FnMut(&IterStats, usize),
     on_step: &mut dyn FnMut(usize, f64),
 ) -> Result<RelaxReport, SimError> {
-    let saved = (sim.newton, sim.h, sim.h_min, sim.h_max, sim.params.assign);
-    configure(sim, &opts);
-    let scale = ForceScale::of(&sim.fabric, &sim.params);
-    let ks = sim.params.rod.ks;
-    let mut run = || -> Result<RelaxReport, SimError> {
-        let mut rep = RelaxReport {
-            steps: 0,
-            newton_iterations: 0,
-            residual: scale.from_ks_units(sim.static_residual()?, ks),
-            force_scale: scale,
-            converged: false,
-            cancelled: false,
-            max_eil: 0,
-            closed_segment_steps: 0,
-        };
-        while rep.steps < opts.max_steps {
-            if rep.residual <= opts.tol {
-                rep.converged = true;
-                break;
-            }
-            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                rep.cancelled = true;
-                break;
-            }
-            let s = sim.step(false, cancel, on_iter)?;
-            rep.steps += 1;
-            rep.newton_iterations += s.newton_iterations;
-            rep.max_eil = rep.max_eil.max(s.eil_count);
-            rep.closed_segment_steps += usize::from(s.closed_segment);
-            rep.residual = scale.from_ks_units(sim.static_residual()?, ks);
-            on_step(rep.steps, rep.residual);
-        }
-        rep.converged |= rep.residual <= opts.tol;
-        Ok(rep)
+    let mut schedule = schedule(sim, &opts);
+    let scale = ForceScale::of(sim.fabric(), sim.params());
+    let ks = sim.params().rod.ks;
+    let mut rep = RelaxReport {
+        steps: 0,
+        newton_iterations: 0,
+        residual: scale.from_ks_units(sim.static_residual()?, ks),
+        force_scale: scale,
+        converged: false,
+        cancelled: false,
+        max_eil: 0,
+        closed_segment_steps: 0,
     };
-    let out = run();
-    (sim.newton, sim.h, sim.h_min, sim.h_max, sim.params.assign) = saved;
-    out
+    while rep.steps < opts.max_steps {
+        if rep.residual <= opts.tol {
+            rep.converged = true;
+            break;
+        }
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            rep.cancelled = true;
+            break;
+        }
+        let s = sim.step_with(&mut schedule, false, cancel, on_iter)?;
+        rep.steps += 1;
+        rep.newton_iterations += s.newton_iterations;
+        rep.max_eil = rep.max_eil.max(s.eil_count);
+        rep.closed_segment_steps += usize::from(s.closed_segment);
+        rep.residual = scale.from_ks_units(sim.static_residual()?, ks);
+        on_step(rep.steps, rep.residual);
+    }
+    rep.converged |= rep.residual <= opts.tol;
+    Ok(rep)
 }
 
-/// Sets the Newton parameters, pseudo time steps and EIL release rule of
-/// the relaxation schedule on `sim`, without stepping. [`relax`] starts
-/// with this; a diagnostic that calls `Simulation::step` itself (`examples/relax_steps.rs`)
-/// does too, so it follows the same path step for step.
-pub fn configure(sim: &mut Simulation, opts: &RelaxOptions) {
-    sim.newton.max_iterations = opts.newton_per_step;
-    sim.newton.rel_residual_tol = opts.newton_rel_tol;
+/// The relaxation schedule of `opts` for `sim`: the Newton parameters of
+/// `sim`'s own schedule with the relaxation's iteration cap and
+/// tolerances, the pseudo time steps and the EIL release rule. [`relax`]
+/// steps with it; a diagnostic that calls `Simulation::step_with` itself
+/// (`examples/relax_diagnose.rs`) does too, so it follows the same path
+/// step for step.
+pub fn schedule(sim: &Simulation, opts: &RelaxOptions) -> Schedule {
+    let mut s = Schedule {
+        newton: sim.schedule().newton,
+        ..Schedule::new(opts.h_initial)
+    };
+    s.newton.max_iterations = opts.newton_per_step;
+    s.newton.rel_residual_tol = opts.newton_rel_tol;
     // The equilibrium test, in force units, at every Newton iterate: a step
     // that passes through equilibrium ends there instead of running on to
     // its cap (the static test in [`relax`] then decides, without inertia).
-    sim.newton.max_force_tol = opts.tol * ForceScale::of(&sim.fabric, &sim.params).value;
-    sim.h = opts.h_initial;
-    sim.h_min = opts.h_initial * 1e-4;
-    sim.h_max = opts.h_max;
-    if opts.keep_eil {
-        // No gap is ever wide enough: `assign_after` keeps every EIL point.
-        sim.params.assign.release_fraction = f64::INFINITY;
-    }
+    s.newton.max_force_tol = opts.tol * ForceScale::of(sim.fabric(), sim.params()).value;
+    s.h_max = opts.h_max;
+    // No gap is ever wide enough: `assign_after` keeps every EIL point.
+    s.keep_eil = opts.keep_eil;
+    s
 }

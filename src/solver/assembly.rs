@@ -33,7 +33,7 @@ mod slots;
 
 use crate::energy::{Derivatives, Stencil};
 use crate::parallel::{ordered_map, threads};
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 use nalgebra::SVector;
 
 /// Stencils per block of the parallel evaluation: small enough that the

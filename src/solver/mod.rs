@@ -9,7 +9,6 @@ pub mod assembly;
 pub mod line_search;
 pub mod linear;
 pub mod newton;
-pub mod sparse;
 
 #[cfg(test)]
 mod test_stencils;

@@ -40,7 +40,7 @@
 
 use crate::solver::assembly::AssemblyError;
 use crate::solver::line_search::LineSearchParams;
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 use std::sync::atomic::AtomicBool;
 
 /// What Newton minimises. `q` always holds every coordinate (see module docs).
@@ -70,10 +70,20 @@ pub trait Problem {
     }
     /// Whether the accepted iterate `q` has left the region where this
     /// problem's discretization holds (for a yarn model: a real segment
-    /// has closed, `sim::tripwire`). Checked after every accepted step;
+    /// has closed, `sim::problem::tripwire`). Checked after every accepted step;
     /// `true` ends the solve with [`NewtonStatus::Rediscretize`] so the
     /// caller can rebuild the problem there. Default: never.
     fn must_rediscretize(&self, _q: &[f64]) -> bool {
+        false
+    }
+    /// Whether the problem must be rebuilt at the current iterate before
+    /// Newton goes on: a part of it holds only near where it was built (for
+    /// a yarn model: the contact candidate list, whose trust radius the last
+    /// step reached, `sim::terms::thickness_contact`). Checked after every
+    /// iteration that did not end the solve otherwise; `true` ends the solve
+    /// with [`NewtonStatus::Rebuild`], and the caller rebuilds and calls
+    /// Newton again. Default: never.
+    fn must_rebuild(&self) -> bool {
         false
     }
     /// Block-Jacobi partition for CG (starts, closed by `n`); empty = scalar Jacobi.
@@ -197,6 +207,9 @@ pub enum NewtonStatus {
     /// An accepted step left the problem's discretization
     /// ([`Problem::must_rediscretize`]); `q` is that iterate.
     Rediscretize,
+    /// The problem must be rebuilt at `q` before iterating on
+    /// ([`Problem::must_rebuild`]).
+    Rebuild,
 }
 
 #[derive(Clone, Debug)]

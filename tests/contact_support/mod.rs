@@ -228,13 +228,13 @@ pub fn resample(pts: &[Vec3], n: usize) -> Vec<Vec3> {
 
 /// Node positions of a simulation (single-yarn fabrics: node k = point k).
 pub fn positions(sim: &Simulation) -> Vec<Vec3> {
-    positions_of(sim, &sim.q)
+    positions_of(sim, sim.q())
 }
 
 /// Node positions in a coordinate vector `q` of `sim`'s layout (an iterate
-/// from `Simulation::iterate_log`, say).
+/// from `Simulation::take_iterates`, say).
 pub fn positions_of(sim: &Simulation, q: &[f64]) -> Vec<Vec3> {
-    (0..sim.layout.n_nodes).map(|i| sim.layout.node_x(q, i)).collect()
+    (0..sim.layout().n_nodes).map(|i| sim.layout().node_x(q, i)).collect()
 }
 
 /// Arc length of a polyline.

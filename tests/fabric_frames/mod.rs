@@ -10,7 +10,7 @@
 //! geometry. The endpoints are nodes, and nodes are the vertex ids: the two
 //! yarns of an EoL contact share its node, so their segments there are
 //! adjacent (skipped), not crossing. A step first re-assigns EIL points and
-//! moves the affected contacts (`sim::transfer`), then solves; the check
+//! moves the affected contacts (`sim::discretization::transfer`), then solves; the check
 //! covers the solve, from that start to the accepted state.
 //!
 //! **Skipped pairs**, besides those sharing a node:
@@ -29,8 +29,8 @@
 #![allow(dead_code)]
 
 use crate::contact_support::{crossing_pairs, min_separation_where};
-use knitsim::sim::assignment::Assignment;
-use knitsim::sim::transfer::transfer;
+use knitsim::sim::discretization::assignment::Assignment;
+use knitsim::sim::discretization::transfer::transfer;
 use knitsim::sim::{SimParams, Simulation};
 use knitsim::solver::linear::LinearSolver;
 use knitsim::solver::newton::Problem;
@@ -50,7 +50,7 @@ impl Segments {
     /// The segments of assignment `a`, with the exclusion `radius` measured
     /// at the `u` of `q` (the state the step's solve started from).
     pub fn new(sim: &Simulation, a: &Assignment, q: &[f64], radius: f64) -> Self {
-        let (f, l) = (&sim.fabric, &sim.layout);
+        let (f, l) = (sim.fabric(), sim.layout());
         let u = |yarn: usize, point: usize| q[l.u(PointRef { yarn, point })];
         let sides: Vec<(usize, f64, usize)> = f
             .contacts
@@ -102,11 +102,11 @@ impl Segments {
 }
 
 pub fn node_positions(sim: &Simulation, q: &[f64]) -> Vec<Vec3> {
-    (0..sim.layout.n_nodes).map(|i| sim.layout.node_x(q, i)).collect()
+    (0..sim.layout().n_nodes).map(|i| sim.layout().node_x(q, i)).collect()
 }
 
 pub fn potential(sim: &Simulation) -> f64 {
-    sim.problem(None).expect("problem").energy(&sim.q)
+    sim.problem(None).expect("problem").energy(sim.q())
 }
 
 /// What a run measured.
@@ -141,10 +141,11 @@ pub fn run(fabric: Fabric, p: SimParams, steps: usize, before: &mut dyn FnMut(&m
     let thickness = cp.thickness_for(p.rod.radius);
     let exclusion = cp.eol_exclusion * thickness;
     let mut sim = Simulation::new(fabric, p, LinearSolver::direct(), 1e-3);
-    sim.newton.max_iterations = 20;
-    sim.newton.rel_residual_tol = 1e-6;
-    sim.h_min = 1e-7;
-    sim.h_max = 1e2;
+    let schedule = sim.schedule_mut();
+    schedule.newton.max_iterations = 20;
+    schedule.newton.rel_residual_tol = 1e-6;
+    schedule.h_min = 1e-7;
+    schedule.h_max = 1e2;
     let energy0 = potential(&sim);
     let residual0 = sim.static_residual().expect("residual");
     let mut out = Run {
@@ -165,7 +166,7 @@ pub fn run(fabric: Fabric, p: SimParams, steps: usize, before: &mut dyn FnMut(&m
     let touch = 1e-3 * 0.5 * thickness;
     for k in 0..steps {
         before(sim, k);
-        let (q0, a0) = (sim.q.clone(), sim.assignment.clone());
+        let (q0, a0) = (sim.q().to_vec(), sim.assignment().clone());
         if let Err(e) = sim.step(false, None, &mut |_, _| {}) {
             // `step` re-assigned and transferred before it failed, so
             // `sim` holds the start it could not solve from.
@@ -175,16 +176,16 @@ pub fn run(fabric: Fabric, p: SimParams, steps: usize, before: &mut dyn FnMut(&m
             break;
         }
         out.steps += 1;
-        if !sim.q.iter().all(|v| v.is_finite()) {
+        if !sim.q().iter().all(|v| v.is_finite()) {
             out.finite = false;
             break;
         }
-        let a1 = &sim.assignment;
+        let a1 = sim.assignment();
         let mut start = q0;
-        transfer(&sim.fabric, &sim.layout, &a0, a1, &mut start);
+        transfer(sim.fabric(), sim.layout(), &a0, a1, &mut start);
         let segs = Segments::new(sim, a1, &start, exclusion);
         let x0 = node_positions(sim, &start);
-        let x1 = node_positions(sim, &sim.q);
+        let x1 = node_positions(sim, sim.q());
         let found: Vec<(usize, usize, f64)> = crossing_pairs(&x0, &x1, &segs.segs, touch, |i, j| segs.joined(i, j))
             .into_iter()
             .filter(|&(i, j, t)| segs.link(i, j, |n| x0[n] + (x1[n] - x0[n]) * t) >= touch)
@@ -224,8 +225,8 @@ pub fn run(fabric: Fabric, p: SimParams, steps: usize, before: &mut dyn FnMut(&m
 /// Pairs the simulator keeps a barrier for that touch in its current state
 /// (an infinite barrier): what a step that cannot start ran into.
 fn touching_at_start(sim: &Simulation, exclusion: f64, touch: f64) -> String {
-    let segs = Segments::new(sim, &sim.assignment, &sim.q, exclusion);
-    let x = node_positions(sim, &sim.q);
+    let segs = Segments::new(sim, sim.assignment(), sim.q(), exclusion);
+    let x = node_positions(sim, sim.q());
     let mut out = String::new();
     for (i, a) in segs.segs.iter().enumerate() {
         for (j, b) in segs.segs.iter().enumerate().skip(i + 1) {

@@ -8,7 +8,7 @@
 use super::{Dispatch, Kernels};
 use crate::gpu::buffers::{grid, storage_init, storage_zeroed, uniform};
 use crate::gpu::context::{GpuContext, GpuError};
-use crate::solver::linear::BlockJacobi;
+use crate::sparse::BlockJacobi;
 use bytemuck::{Pod, Zeroable};
 
 pub(crate) const SOURCE: &str = include_str!("../../../shaders/block_jacobi.wgsl");

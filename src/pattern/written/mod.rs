@@ -15,10 +15,10 @@ mod syntax;
 
 use super::chart::GridRow;
 use super::error::ErrorKind;
+use super::limits::Limits;
 use super::meta::MetaSpec;
 use super::model::{Side, Stitch, StitchKind, Worked};
 use super::source::{Pos, Result, Source};
-use super::validate::Limits;
 use super::{document::Section, side_of};
 use syntax::{row_line, Count, Item, RowLine};
 

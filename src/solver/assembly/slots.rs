@@ -9,7 +9,7 @@
 //! reads its `N` slots from that map, so the work is one pass over the
 //! touched rows plus one lookup per entry.
 
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 
 /// The value position of entry `(dofs[k][i], dofs[k][j])` at index
 /// `(k N + i) N + j`, or the first entry missing from `h`'s pattern as

@@ -7,73 +7,7 @@
 //! so the preconditioner knows nothing of the EoL layout. The GPU solver
 //! implements exactly this algorithm in f32; this f64 version is its reference.
 
-use crate::solver::sparse::{dot, CsrMatrix};
-use nalgebra::DMatrix;
-
-/// Inverted diagonal blocks of a symmetric matrix.
-#[derive(Clone, Debug)]
-pub struct BlockJacobi {
-    /// Start of each block; a final entry equal to `n` closes the last one.
-    pub starts: Vec<usize>,
-    /// Row-major inverse of each block, concatenated.
-    pub inv: Vec<f64>,
-    offsets: Vec<usize>,
-}
-
-impl BlockJacobi {
-    /// `starts` must be increasing, begin at 0 and end at `a.n`.
-    /// A block that is singular falls back to the inverse of its diagonal.
-    pub fn new(a: &CsrMatrix, starts: &[usize]) -> Self {
-        let mut inv = Vec::new();
-        let mut offsets = Vec::with_capacity(starts.len());
-        for w in starts.windows(2) {
-            let (s, e) = (w[0], w[1]);
-            let m = e - s;
-            offsets.push(inv.len());
-            let mut b = DMatrix::<f64>::zeros(m, m);
-            for r in 0..m {
-                for c in 0..m {
-                    b[(r, c)] = a.find(s + r, s + c).map_or(0.0, |k| a.values[k]);
-                }
-            }
-            let bi = b
-                .clone()
-                .try_inverse()
-                .filter(|bi| bi.iter().all(|v| v.is_finite()))
-                .unwrap_or_else(|| {
-                    DMatrix::from_diagonal(&b.diagonal().map(|d| if d.abs() > 0.0 { 1.0 / d } else { 1.0 }))
-                });
-            for r in 0..m {
-                for c in 0..m {
-                    inv.push(bi[(r, c)]);
-                }
-            }
-        }
-        offsets.push(inv.len());
-        BlockJacobi {
-            starts: starts.to_vec(),
-            inv,
-            offsets,
-        }
-    }
-
-    /// Scalar blocks: plain Jacobi.
-    pub fn diagonal(a: &CsrMatrix) -> Self {
-        let starts: Vec<usize> = (0..=a.n).collect();
-        Self::new(a, &starts)
-    }
-
-    /// z = P^-1 r
-    pub fn apply(&self, r: &[f64], z: &mut [f64]) {
-        for (bi, w) in self.starts.windows(2).enumerate() {
-            let (s, m) = (w[0], w[1] - w[0]);
-            let blk = &self.inv[self.offsets[bi]..self.offsets[bi + 1]];
-            for i in 0..m {
-                z[s + i] = (0..m).map(|j| blk[i * m + j] * r[s + j]).sum();
-            }
-        }
-    }
-}
+use crate::sparse::{dot, BlockJacobi, CgResult, CsrMatrix};
 
 #[derive(Clone, Copy, Debug)]
 pub struct CgParams {
@@ -93,14 +27,6 @@ impl Default for CgParams {
             max_iter: 10_000,
         }
     }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CgResult {
-    pub iterations: usize,
-    /// Final `|r| / |b|`.
-    pub rel_residual: f64,
-    pub converged: bool,
 }
 
 /// Solves `A x = b` for symmetric positive (semi-)definite `A`, starting from `x`.
@@ -186,7 +112,7 @@ mod tests {
         let n = 60;
         let a = laplacian(n);
         let b: Vec<f64> = (0..n).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
-        let dense = DMatrix::from_fn(n, n, |r, c| a.find(r, c).map_or(0.0, |k| a.values[k]));
+        let dense = nalgebra::DMatrix::from_fn(n, n, |r, c| a.find(r, c).map_or(0.0, |k| a.values[k]));
         let exact = dense.lu().solve(&nalgebra::DVector::from_vec(b.clone())).unwrap();
         for pre in [
             BlockJacobi::diagonal(&a),

@@ -38,7 +38,7 @@
 //!   (`subnormals`): the factor of a heavily damped matrix fills with them,
 //!   and x86 computes them in microcode.
 
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;

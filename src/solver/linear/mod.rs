@@ -18,15 +18,16 @@ pub mod cg;
 pub mod choice;
 pub mod direct;
 #[cfg(feature = "gpu")]
-pub mod gpu;
+pub mod gpu_solver;
 
-pub use cg::{pcg, BlockJacobi, CgParams, CgResult};
+pub use crate::sparse::{BlockJacobi, CgResult};
+pub use cg::{pcg, CgParams};
 pub use choice::{select, AutoParams, SelectError, Selection, SolverChoice};
 pub use direct::{DirectError, DirectParams, DirectSolver, FactorKind, Ordering};
 #[cfg(feature = "gpu")]
-pub use gpu::{GpuLinearParams, GpuSolver};
+pub use gpu_solver::{GpuLinearParams, GpuSolver};
 
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 
 /// A linear solver with whatever state it reuses across Newton iterations.
 pub enum LinearSolver {

@@ -17,7 +17,7 @@
 //! ([`Problem::bounds`](super::Problem::bounds)) and hold for that
 //! iteration only; an unbounded coordinate has `-inf` / `+inf`.
 
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 
 pub(super) struct Bounds {
     pub lower: Vec<f64>,

@@ -6,7 +6,7 @@ use super::{
 };
 use crate::solver::line_search::{backtracking_armijo, LineSearchStep};
 use crate::solver::linear::LinearSolver;
-use crate::solver::sparse::{dot, CsrMatrix};
+use crate::sparse::{dot, CsrMatrix};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
@@ -133,6 +133,7 @@ pub fn minimize<P: Problem + ?Sized>(
             damping = next_damping(damping, &stats, params);
             match outcome {
                 None if stats.step > 0.0 && problem.must_rediscretize(q) => Some(NewtonStatus::Rediscretize),
+                None if problem.must_rebuild() => Some(NewtonStatus::Rebuild),
                 other => other,
             }
         };

@@ -17,7 +17,7 @@
 //! before the analysis is reused; otherwise it is rebuilt. So the factor is
 //! always the factor of the matrix passed in.
 
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
 
 /// CSC lower triangle of a symmetric `CsrMatrix` (row `j` restricted to
 /// columns `>= j` is column `j`), minus the couplings of identity rows.

@@ -84,7 +84,7 @@ impl PermutedLower {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::sparse::CsrMatrix;
+    use crate::sparse::CsrMatrix;
 
     #[test]
     fn the_permuted_pattern_holds_every_entry_once_in_its_new_place() {

@@ -1,5 +1,5 @@
 use super::*;
-use crate::solver::sparse::dot;
+use crate::sparse::dot;
 use nalgebra::{DMatrix, DVector};
 
 /// 2D 5-point Laplacian on an `m x m` grid plus `shift` on the diagonal.

@@ -341,7 +341,7 @@ mod tests {
     use super::super::lower::LowerPattern;
     use super::super::permuted::PermutedLower;
     use super::*;
-    use crate::solver::sparse::CsrMatrix;
+    use crate::sparse::CsrMatrix;
     use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholeskyRaw, SymmetricOrdering};
     use faer::sparse::SymbolicSparseColMatRef;
     use faer::Side;

@@ -3,13 +3,16 @@
 //! there, and one radius for all is still the default of a `SimParams`
 //! built in code.
 
-use super::{obstacle_terms, parallel_terms, Discretization};
+use super::obstacle_contact::obstacle_terms;
+use super::parallel_yarns::parallel_terms;
 use crate::io::fixtures::meta;
-use crate::scene::Shape;
-use crate::sim::assignment::{assign, rest_segment_lengths, AssignParams};
-use crate::sim::dofs::DofLayout;
-use crate::sim::end_stops::end_stops;
+use crate::rod::obstacle::Shape;
+use crate::sim::discretization::assignment::{assign, rest_segment_lengths};
+use crate::sim::discretization::dofs::DofLayout;
+use crate::sim::discretization::Discretization;
+use crate::sim::params::AssignParams;
 use crate::sim::params::{SimParams, YarnRadii};
+use crate::sim::terms::end_stops::end_stops;
 use crate::topology::{Contact, ContactKind, Fabric, Node, PointRef, Vec3, Yarn, YarnPoint};
 
 const MM: f64 = 1e-3;

@@ -25,7 +25,7 @@
 //! be handed over, and plain EoL is kept as the seed describes it (it exists
 //! to show why EIL matters).
 
-use super::system::Discretization;
+use crate::sim::discretization::Discretization;
 use crate::topology::PointRef;
 
 /// One neighbour of a sliding point: its `u` coordinate and whether that
@@ -108,8 +108,9 @@ impl SlideStops {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::sim::assignment::{assign, rest_segment_lengths, tests::meta, AssignParams};
-    use crate::sim::dofs::DofLayout;
+    use crate::sim::discretization::assignment::{assign, rest_segment_lengths, tests::meta};
+    use crate::sim::discretization::dofs::DofLayout;
+    use crate::sim::params::AssignParams;
     use crate::topology::{Fabric, Node, Vec3, Yarn, YarnPoint};
 
     /// One straight yarn: fixed end, two sliding points, fixed end.

@@ -10,51 +10,8 @@
 //! the sorted order lives here.
 
 use super::dofs::DofLayout;
+use crate::sim::params::AssignParams;
 use crate::topology::{Fabric, PointRef};
-
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct AssignParams {
-    /// Safety distance as a fraction of the rest segment length (0.1, docs/MODEL.md, "Node assignment").
-    #[serde(deserialize_with = "crate::scene::non_negative")]
-    pub safety_fraction: f64,
-    /// `false` disables EIL entirely (plain EoL), to show why EIL matters.
-    pub enable_eil: bool,
-    /// An EIL point turns real again only once it is this fraction of the
-    /// rest segment from the previous real point and from the next point
-    /// that stays real (hysteresis; at least
-    /// `safety_fraction`). Without it a point hovering at the safety
-    /// distance flips kind every step, and every flip restarts Newton from
-    /// a perturbed state.
-    #[serde(deserialize_with = "crate::scene::non_negative")]
-    pub release_fraction: f64,
-    /// Within a step, a sliding real point stops when its segment to a
-    /// real neighbour is this fraction of the rest segment (below
-    /// `safety_fraction`, so the next re-assignment makes it EIL); 0 = no
-    /// stop (the default; 0.05 is half the safety distance). Opt-in: see
-    /// `sim::slide_stops` and docs/RELAX.md, "Slide stops", for what it does to
-    /// the relaxation.
-    #[serde(deserialize_with = "crate::scene::non_negative")]
-    pub stop_fraction: f64,
-    /// Within a relaxation step, a real segment shorter than this fraction
-    /// of the rest segment ends the step (`sim::tripwire`), so the next
-    /// re-assignment hands its sliding point to EIL; 0 = off. Below
-    /// `safety_fraction`, so a tripped segment is always re-assigned.
-    #[serde(deserialize_with = "crate::scene::non_negative")]
-    pub close_fraction: f64,
-}
-
-impl Default for AssignParams {
-    fn default() -> Self {
-        AssignParams {
-            safety_fraction: 0.1,
-            enable_eil: true,
-            release_fraction: 0.2,
-            stop_fraction: 0.0,
-            close_fraction: 1e-5,
-        }
-    }
-}
 
 /// The discretization of one step.
 #[derive(Clone, Debug, PartialEq)]

@@ -8,7 +8,7 @@
 //! during relaxation. A designer's pattern never unravels from its tails,
 //! so relaxation must not either.
 //!
-//! The stop is the parallel-contact penalty (`rod::parallel`) between the
+//! The stop is the parallel-contact penalty (`rod::parallel_contact`) between the
 //! end's fixed `u` and the outermost contact point's `u`, at a distance of
 //! one diameter of that yarn (`SimParams::yarn_radii`), or half the
 //! compiled tail if that is shorter (so the compiled state is never inside
@@ -16,10 +16,21 @@
 //! `Terms::secured_ends` switches it off for scenes that want a tail to
 //! pull out.
 
-use super::system::Discretization;
-use super::SimParams;
-use crate::rod::parallel::ParallelContact;
+use super::{set, TermInputs};
+use crate::rod::parallel_contact::ParallelContact;
+use crate::sim::discretization::Discretization;
+use crate::sim::params::SimParams;
+use crate::solver::assembly::AnyStencilSet;
 use crate::topology::PointRef;
+
+/// The `yarn-ends` set (none while `Terms::secured_ends` is off).
+pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
+    if !t.params.terms.secured_ends {
+        return Vec::new();
+    }
+    let (et, ed) = end_stops(t.disc, t.params, &t.radii);
+    vec![set("yarn-ends", et, ed)]
+}
 
 /// The stops of every yarn end that has a contact: `(stencil, [u_lo, u_hi])`.
 /// `radii` holds each yarn's radius (`SimParams::yarn_radii`).
@@ -58,8 +69,9 @@ pub fn end_stops(disc: &Discretization, p: &SimParams, radii: &[f64]) -> (Vec<Pa
 mod tests {
     use super::*;
     use crate::energy::Stencil;
-    use crate::sim::assignment::{assign, rest_segment_lengths, tests::crossing_fabric, AssignParams};
-    use crate::sim::dofs::DofLayout;
+    use crate::sim::discretization::assignment::{assign, rest_segment_lengths, tests::crossing_fabric};
+    use crate::sim::discretization::dofs::DofLayout;
+    use crate::sim::params::AssignParams;
     use crate::topology::Fabric;
     use nalgebra::SVector;
 

@@ -19,13 +19,12 @@
 //! for the step (lagged, as IPC lags friction's normal force), which keeps
 //! the friction potential fixed inside one Newton solve.
 
-use super::assignment::Assignment;
-use super::dofs::DofLayout;
-use super::params::SimParams;
-use super::simulation::interpolated;
-use super::system::Discretization;
 use crate::energy::Stencil;
 use crate::rod::{bending::Bending, friction::coulomb_update, gravity::SegmentGravity, stretch::Stretch};
+use crate::sim::discretization::assignment::Assignment;
+use crate::sim::discretization::dofs::DofLayout;
+use crate::sim::discretization::{interpolated, Discretization};
+use crate::sim::params::SimParams;
 use crate::topology::{Fabric, PointRef, Vec3};
 use nalgebra::SVector;
 
@@ -85,7 +84,7 @@ fn across(force: Vec3, t: Option<Vec3>) -> f64 {
 /// tangent there. At equilibrium the partner balances this yarn's own
 /// forces on the node, so the contact force is the `x` gradient of this
 /// yarn's stretch, bending and (when on) gravity stencils at the node.
-pub(super) fn real_contact_force(
+pub(crate) fn real_contact_force(
     f: &Fabric,
     l: &DofLayout,
     q: &[f64],

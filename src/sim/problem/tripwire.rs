@@ -17,10 +17,10 @@
 //!
 //! Only relaxation steps trip: a dynamic step must converge to be a step
 //! of the time integrator, so it keeps its adaptive-`h` retries. Unlike
-//! the sliding stops (`sim::slide_stops`) nothing is held: the iterate that
+//! the sliding stops (`sim::problem::slide_stops`) nothing is held: the iterate that
 //! closed the segment is kept as it is, and the next step starts from it.
 
-use super::system::Discretization;
+use crate::sim::discretization::Discretization;
 use crate::topology::PointRef;
 
 /// One real segment with a sliding end: its two `u` unknowns (in `u` order)
@@ -80,9 +80,10 @@ impl Tripwire {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::assignment::{assign, rest_segment_lengths, AssignParams};
-    use crate::sim::dofs::DofLayout;
-    use crate::sim::slide_stops::tests::fabric;
+    use crate::sim::discretization::assignment::{assign, rest_segment_lengths};
+    use crate::sim::discretization::dofs::DofLayout;
+    use crate::sim::params::AssignParams;
+    use crate::sim::problem::slide_stops::tests::fabric;
 
     /// The tripwire of a straight yarn with points at `us` (ends fixed,
     /// the two inner points sliding), its `u` unknowns and its state.

@@ -25,7 +25,7 @@
 
 use super::assignment::Assignment;
 use super::dofs::DofLayout;
-use super::simulation::interpolated;
+use super::interpolated;
 use crate::topology::{Fabric, PointRef};
 
 /// Updates `q` for the change of assignment `old -> new`. A contact is
@@ -145,7 +145,8 @@ fn project_u(f: &Fabric, l: &DofLayout, a: &Assignment, q: &mut [f64], p: PointR
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::assignment::{assign, rest_segment_lengths, tests::crossing_fabric, AssignParams};
+    use crate::sim::discretization::assignment::{assign, rest_segment_lengths, tests::crossing_fabric};
+    use crate::sim::params::AssignParams;
 
     /// Yarn A bends at the contact node (vertex at z = 0.1 above its chord);
     /// yarn B passes straight through the node along y.
@@ -197,7 +198,7 @@ mod tests {
     /// transferred first, so it must not see the stale position.
     #[test]
     fn a_released_all_eil_node_leaves_its_stale_position_before_other_chords_use_it() {
-        use crate::sim::assignment::tests::test_yarn;
+        use crate::sim::discretization::assignment::tests::test_yarn;
         use crate::topology::{Contact, ContactKind};
         let mut f = crossing_fabric(
             &[

@@ -1,6 +1,6 @@
-use super::SeparationParams;
-use crate::sim::assignment::tests::crossing_fabric;
-use crate::sim::removal::RemovalCause;
+use crate::sim::discretization::assignment::tests::crossing_fabric;
+use crate::sim::events::RemovalCause;
+use crate::sim::params::SeparationParams;
 use crate::sim::{SimParams, Simulation};
 use crate::solver::linear::LinearSolver;
 use crate::topology::{ContactKind, Fabric};
@@ -42,9 +42,9 @@ fn move_front_ends(separation: Option<SeparationParams>, dz: f64, steps: usize) 
     p.separation = separation;
     let mut sim = Simulation::new(two_layers(), p, LinearSolver::direct(), 1e-2);
     for end in [0, 4] {
-        let node = sim.fabric.yarns[0].points[end].node;
-        let z = sim.layout.x(node) + 2;
-        sim.q[z] += dz;
+        let node = sim.fabric().yarns[0].points[end].node;
+        let z = sim.layout().x(node) + 2;
+        sim.q_mut()[z] += dz;
     }
     for _ in 0..steps {
         sim.step(false, None, &mut |_, _| {}).expect("step");
@@ -53,14 +53,16 @@ fn move_front_ends(separation: Option<SeparationParams>, dz: f64, steps: usize) 
 }
 
 fn node_z(sim: &Simulation, yarn: usize, point: usize) -> f64 {
-    sim.layout.node_x(&sim.q, sim.fabric.yarns[yarn].points[point].node).z
+    sim.layout()
+        .node_x(sim.q(), sim.fabric().yarns[yarn].points[point].node)
+        .z
 }
 
 #[test]
 fn the_normal_starts_from_the_front_on_the_plus_z_side() {
     let sim = move_front_ends(Some(SeparationParams::default()), 0.0, 0);
-    assert_eq!(sim.contact_normals.len(), 1);
-    assert!((sim.contact_normals[0] - crate::topology::Vec3::z()).norm() < 1e-12);
+    assert_eq!(sim.contact_normals().len(), 1);
+    assert!((sim.contact_normals()[0] - crate::topology::Vec3::z()).norm() < 1e-12);
     // Nothing loads the contact yet: its normal force is zero, not negative.
     let n = sim.contact_normal_forces()[0].expect("a layer contact is tested");
     assert!(n.abs() < 1e-9, "{n}");
@@ -71,13 +73,13 @@ fn a_front_yarn_lifted_off_its_layer_separates() {
     // Lifted 1 mm: the first step ends with the node pulled between the
     // two yarns, so the contact pulls and is split right there.
     let sim = move_front_ends(Some(SeparationParams::default()), 0.001, 1);
-    assert!(sim.fabric.contacts.is_empty());
-    assert_eq!(sim.removed.len(), 1);
-    assert!(matches!(sim.removed[0].cause, RemovalCause::Pulling { normal_force } if normal_force < 0.0));
-    let (front, back) = (&sim.fabric.yarns[0].points[2], &sim.fabric.yarns[1].points[2]);
+    assert!(sim.fabric().contacts.is_empty());
+    assert_eq!(sim.removed().len(), 1);
+    assert!(matches!(sim.removed()[0].cause, RemovalCause::Pulling { normal_force } if normal_force < 0.0));
+    let (front, back) = (&sim.fabric().yarns[0].points[2], &sim.fabric().yarns[1].points[2]);
     assert_ne!(front.node, back.node);
     assert!(front.fixed_u && back.fixed_u);
-    assert_eq!(sim.fabric.nodes.len(), 10);
+    assert_eq!(sim.fabric().nodes.len(), 10);
     // The copy starts where the shared node was.
     assert_eq!(node_z(&sim, 0, 2), node_z(&sim, 1, 2));
 
@@ -85,7 +87,7 @@ fn a_front_yarn_lifted_off_its_layer_separates() {
     // (to 2% of the lift: the last, bending-dominated sag relaxes slowly;
     // 6e-6 m after 6 steps).
     let sim = move_front_ends(Some(SeparationParams::default()), 0.001, 6);
-    assert_eq!(sim.removed.len(), 1);
+    assert_eq!(sim.removed().len(), 1);
     for pi in 0..5 {
         assert!(
             (node_z(&sim, 0, pi) - 0.001).abs() < 2e-5,
@@ -98,7 +100,7 @@ fn a_front_yarn_lifted_off_its_layer_separates() {
             node_z(&sim, 1, pi)
         );
     }
-    assert!(sim.q.iter().all(|v| v.is_finite()));
+    assert!(sim.q().iter().all(|v| v.is_finite()));
 }
 
 #[test]
@@ -106,11 +108,11 @@ fn without_separation_a_lifted_layer_stays_stuck_and_its_contact_pulls() {
     // What the sign test prevents: the back yarn held up by a contact that
     // pulls, the pair tented between their pins.
     let mut sim = move_front_ends(None, 0.001, 3);
-    assert_eq!(sim.fabric.contacts.len(), 1);
-    assert!(sim.contact_normals.is_empty());
+    assert_eq!(sim.fabric().contacts.len(), 1);
+    assert!(sim.contact_normals().is_empty());
     let z = node_z(&sim, 1, 2);
     assert!(z > 1e-5 && z < 0.001 - 1e-5, "shared node at z = {z}");
-    sim.params.separation = Some(SeparationParams::default());
+    sim.params_mut().separation = Some(SeparationParams::default());
     sim.update_contact_normals();
     let n = sim.contact_normal_forces()[0].expect("tested");
     assert!(n < 0.0, "normal force {n} N");
@@ -120,8 +122,8 @@ fn without_separation_a_lifted_layer_stays_stuck_and_its_contact_pulls() {
 fn a_front_yarn_pressed_into_its_layer_stays_in_contact() {
     // Pressed 1 mm: the contact pushes, and both yarns bend together.
     let sim = move_front_ends(Some(SeparationParams::default()), -0.001, 3);
-    assert_eq!(sim.fabric.contacts.len(), 1);
-    assert!(sim.removed.is_empty());
+    assert_eq!(sim.fabric().contacts.len(), 1);
+    assert!(sim.removed().is_empty());
     let n = sim.contact_normal_forces()[0].expect("tested");
     assert!(n > 0.0, "normal force {n} N");
     let z = node_z(&sim, 0, 2);
@@ -132,7 +134,7 @@ fn a_front_yarn_pressed_into_its_layer_stays_in_contact() {
 /// default separation settings switched on.
 fn stuck_pair() -> Simulation {
     let mut sim = move_front_ends(None, 0.001, 1);
-    sim.params.separation = Some(SeparationParams::default());
+    sim.params_mut().separation = Some(SeparationParams::default());
     sim.update_contact_normals();
     sim
 }
@@ -140,14 +142,14 @@ fn stuck_pair() -> Simulation {
 #[test]
 fn only_the_listed_kinds_are_tested() {
     let mut sim = stuck_pair();
-    sim.fabric.contacts[0].kind = ContactKind::Stitch;
+    sim.state_mut().fabric.contacts[0].kind = ContactKind::Stitch;
     assert_eq!(sim.contact_normal_forces(), vec![None]);
     assert_eq!(sim.separate_pulling(), 0);
     let stitches = SeparationParams {
         kinds: vec![ContactKind::Float, ContactKind::Stitch],
         min_pull: 0.0,
     };
-    sim.params.separation = Some(stitches);
+    sim.params_mut().separation = Some(stitches);
     assert!(sim.contact_normal_forces()[0].is_some_and(|n| n < 0.0));
 }
 
@@ -155,9 +157,9 @@ fn only_the_listed_kinds_are_tested() {
 fn min_pull_is_a_threshold_in_newtons() {
     let mut sim = stuck_pair();
     let n = sim.contact_normal_forces()[0].expect("tested");
-    sim.params.separation.as_mut().expect("on").min_pull = -2.0 * n;
+    sim.params_mut().separation.as_mut().expect("on").min_pull = -2.0 * n;
     assert_eq!(sim.separate_pulling(), 0);
-    sim.params.separation.as_mut().expect("on").min_pull = -0.5 * n;
+    sim.params_mut().separation.as_mut().expect("on").min_pull = -0.5 * n;
     assert_eq!(sim.separate_pulling(), 1);
 }
 

@@ -1,14 +1,31 @@
-//! The Newton [`Problem`] of one step: the stencil sets of the current
-//! discretization, the free mask, and the block partition for CG.
+//! The problem layer: the Newton [`Problem`] of one step, [`EolProblem`].
+//!
+//! It holds the stencil sets the terms layer built for the current
+//! discretization, the free mask and the block partition for CG, and the
+//! three mechanisms that act *inside* a solve, each through its own hook of
+//! the generic Newton loop:
+//! - [`slide_stops`]: box bounds on sliding `u` ([`Problem::bounds`]);
+//! - [`tripwire`]: a closed real segment ends a relaxation step
+//!   ([`Problem::must_rediscretize`]);
+//! - the thickness contact's trust radius: a step that reached it ends the
+//!   solve so the candidate list is rebuilt ([`Problem::must_rebuild`];
+//!   [`solve::minimize`] rebuilds and goes on).
+//!
+//! [`build::ProblemBuilder`] makes the problem of a step from the run's state.
 
-use super::contact_terms::ContactTerms;
-use super::slide_stops::SlideStops;
-use super::tripwire::Tripwire;
+pub mod build;
+pub mod slide_stops;
+pub mod solve;
+pub mod tripwire;
+
+use crate::sim::terms::thickness_contact::{ContactTerms, CONTACT_SET};
 use crate::solver::assembly::{
     assemble, bind_all, gradient, hessian_pattern, total_energy, AnyStencilSet, AssemblyError,
 };
 use crate::solver::newton::Problem;
-use crate::solver::sparse::CsrMatrix;
+use crate::sparse::CsrMatrix;
+use slide_stops::SlideStops;
+use tripwire::Tripwire;
 
 pub struct EolProblem {
     pub sets: Vec<Box<dyn AnyStencilSet>>,
@@ -93,6 +110,31 @@ impl EolProblem {
     pub fn free_gradient(&self, q: &[f64]) -> Result<Vec<f64>, AssemblyError> {
         Ok(gradient(&self.sets, q, &self.free))
     }
+
+    /// Adds the contact terms: picks kappa from the gradient balance, then
+    /// builds the contact stencil set and the new pattern.
+    pub fn attach_contact(&mut self, q: &[f64], mut terms: ContactTerms) -> Result<(), AssemblyError> {
+        if terms.candidate_count() > 0 {
+            let elastic = self.free_gradient(q)?;
+            terms.balance_stiffness(q, &elastic, &self.free);
+        }
+        let set: Box<dyn AnyStencilSet> = Box::new(terms.stencil_set());
+        self.contact = Some(terms);
+        self.replace_set(CONTACT_SET, Some(set))
+    }
+
+    /// Rebuilds the candidate list at `q` (after the trust radius bound a
+    /// step) and doubles kappa if the gaps keep closing (IPC); returns the
+    /// smallest gap.
+    pub fn refresh_contact(&mut self, q: &[f64], prev_min_gap: f64) -> Result<f64, AssemblyError> {
+        let Some(terms) = self.contact.as_mut() else {
+            return Ok(f64::INFINITY);
+        };
+        let gap = terms.refresh(q, prev_min_gap);
+        let set: Box<dyn AnyStencilSet> = Box::new(terms.stencil_set());
+        self.replace_set(CONTACT_SET, Some(set))?;
+        Ok(gap)
+    }
 }
 
 impl Problem for EolProblem {
@@ -116,6 +158,9 @@ impl Problem for EolProblem {
     }
     fn must_rediscretize(&self, q: &[f64]) -> bool {
         self.tripwire.tripped(q)
+    }
+    fn must_rebuild(&self) -> bool {
+        self.contact.as_ref().is_some_and(ContactTerms::trust_exceeded)
     }
     fn blocks(&self) -> Vec<usize> {
         self.blocks.clone()

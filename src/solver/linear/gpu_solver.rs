@@ -33,7 +33,7 @@
 //!   descent direction and otherwise falls back to steepest descent.
 
 use crate::gpu::{AdapterSummary, GpuContext, GpuError, GpuPcg, GpuPcgParams};
-use crate::solver::sparse::{dot, CsrMatrix};
+use crate::sparse::{dot, CsrMatrix};
 
 /// Tuning of the GPU Newton solve.
 #[derive(Clone, Copy, Debug)]

@@ -111,7 +111,7 @@ impl DofLayout {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::assignment::tests::crossing_fabric;
+    use crate::sim::discretization::assignment::tests::crossing_fabric;
 
     #[test]
     fn every_unknown_is_grouped_with_its_node_and_a_contact_node_holds_both_points() {
