@@ -7,6 +7,7 @@
 //! error against run time, as the users asked. Every file is written
 //! atomically, so a stopped run never leaves a half-written output.
 
+use super::checks::{check_state, Limits, RunStatus, StateChecks};
 use crate::io::{
     save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
@@ -59,6 +60,11 @@ pub struct RelaxOutcome {
     /// Points whose kind the next re-assignment would change
     /// (`Simulation::pending_kind_changes`).
     pub pending_kind_changes: usize,
+    /// The state checks on the final state (`app::checks`).
+    pub checks: StateChecks,
+    /// Converged only if the stopping test passed and the checks accept the
+    /// state; `report.converged` is cleared when they do not.
+    pub status: RunStatus,
 }
 
 /// Runs the relaxation and writes all outputs. `on_step(step, residual)`
@@ -78,7 +84,7 @@ pub fn run_relax(
     let mut sim = Simulation::new(fabric, job.params, job.solver, job.options.h_initial);
     let mut rows = Vec::new();
     let step = std::cell::Cell::new(0usize);
-    let report = {
+    let mut report = {
         let mut on_iter = |s: &crate::solver::newton::IterStats, eil: usize| {
             rows.push(CsvRow {
                 elapsed_s: start.elapsed().as_secs_f64(),
@@ -97,6 +103,9 @@ pub fn run_relax(
     };
     let wall_s = start.elapsed().as_secs_f64();
     let mut out = sim.snapshot();
+    let checks = check_state(&out, &sim.params, &Limits::default());
+    let status = RunStatus::of(&report, job.options.tol, &checks, &Limits::default(), sim.params.contact.is_some());
+    report.converged &= status.is_converged();
     out.sim = Some(SimInfo {
         time: sim.time,
         newton_iterations: report.newton_iterations,
@@ -112,6 +121,8 @@ pub fn run_relax(
         slid_off_contacts: count(RemovalCause::is_slid_off),
         separated_contacts: count(|c| !c.is_slid_off()),
         pending_kind_changes: sim.pending_kind_changes(),
+        checks,
+        status,
     })
 }
 
