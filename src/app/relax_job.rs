@@ -9,7 +9,7 @@
 
 use super::checks::{check_state, Limits, RunStatus, StateChecks};
 use crate::io::{
-    save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
+    fit_preview, save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
 use crate::sim::removal::RemovalCause;
 use crate::sim::{relax, RelaxOptions, RelaxReport, SimError, SimParams, Simulation};
@@ -104,7 +104,13 @@ pub fn run_relax(
     let wall_s = start.elapsed().as_secs_f64();
     let mut out = sim.snapshot();
     let checks = check_state(&out, &sim.params, &Limits::default());
-    let status = RunStatus::of(&report, job.options.tol, &checks, &Limits::default(), sim.params.contact.is_some());
+    let status = RunStatus::of(
+        &report,
+        job.options.tol,
+        &checks,
+        &Limits::default(),
+        sim.params.contact.is_some(),
+    );
     report.converged &= status.is_converged();
     out.sim = Some(SimInfo {
         time: sim.time,
@@ -130,7 +136,7 @@ fn write_outputs(f: &Fabric, dir: &Path, rows: &[CsvRow]) -> Result<(), IoError>
     save_json(f, &dir.join("state.json"))?;
     write_vtk(f, &dir.join("relaxed.vtk"), &VtkOptions::default())?;
     write_obj(f, &dir.join("relaxed.obj"), &ObjOptions::default())?;
-    write_png(f, &dir.join("relaxed.png"), &PngOptions::default())?;
+    write_png(f, &dir.join("relaxed.png"), &fit_preview(f, PngOptions::default()))?;
     write_atomic(&dir.join("convergence.csv"), |w: &mut dyn Write| {
         writeln!(w, "iteration,step,elapsed_s,energy,residual,step_length,eil_count")?;
         for (i, r) in rows.iter().enumerate() {
