@@ -5,6 +5,7 @@
 pub mod checks;
 pub mod input;
 pub mod relax_job;
+pub mod stability;
 
 pub use checks::{check_state, Limits, NotConverged, RunStatus, StateChecks};
 pub use input::{load_fabric, InputError, Loaded};

@@ -124,8 +124,17 @@ pub fn check_state(f: &Fabric, params: &SimParams, limits: &Limits) -> StateChec
     let cp = params.contact.clone().unwrap_or_default();
     let exclusion = cp.eol_exclusion * cp.thickness_for(thickest);
     let mut out = StateChecks {
-        non_finite: f.nodes.iter().flat_map(|n| n.x.iter()).filter(|v| !v.is_finite()).count()
-            + f.yarns.iter().flat_map(|y| &y.points).filter(|p| !p.u.is_finite()).count(),
+        non_finite: f
+            .nodes
+            .iter()
+            .flat_map(|n| n.x.iter())
+            .filter(|v| !v.is_finite())
+            .count()
+            + f.yarns
+                .iter()
+                .flat_map(|y| &y.points)
+                .filter(|p| !p.u.is_finite())
+                .count(),
         min_gap_ratio: f64::INFINITY,
         ..StateChecks::default()
     };
@@ -150,8 +159,7 @@ pub fn check_state(f: &Fabric, params: &SimParams, limits: &Limits) -> StateChec
         .iter()
         .enumerate()
         .flat_map(|(c, k)| {
-            [(k.front, 2 * c), (k.back, 2 * c + 1)]
-                .map(|(p, code)| (p.yarn, f.yarns[p.yarn].points[p.point].u, code))
+            [(k.front, 2 * c), (k.back, 2 * c + 1)].map(|(p, code)| (p.yarn, f.yarns[p.yarn].points[p.point].u, code))
         })
         .collect();
     let near: Vec<Vec<usize>> = segs

@@ -156,11 +156,7 @@ fn first_touch(
 /// largest extent, so long strips and columns stay near linear.
 pub fn close_pairs(x: &[Vec3], segs: &[[usize; 2]], reach: impl Fn(usize, usize) -> f64) -> Vec<(usize, usize, f64)> {
     let boxes: Vec<(Vec3, Vec3)> = segs.iter().map(|s| bounding_box(&x[s[0]], &x[s[1]])).collect();
-    let Some((lo, hi)) = boxes
-        .iter()
-        .copied()
-        .reduce(|a, b| (a.0.inf(&b.0), a.1.sup(&b.1)))
-    else {
+    let Some((lo, hi)) = boxes.iter().copied().reduce(|a, b| (a.0.inf(&b.0), a.1.sup(&b.1))) else {
         return Vec::new();
     };
     let axis = (hi - lo).imax();
@@ -197,10 +193,20 @@ mod tests {
 
     #[test]
     fn skew_segments_are_as_far_apart_as_their_common_normal() {
-        let d = segment_distance(&v(-1.0, 0.0, 0.0), &v(1.0, 0.0, 0.0), &v(0.0, -1.0, 0.5), &v(0.0, 1.0, 0.5));
+        let d = segment_distance(
+            &v(-1.0, 0.0, 0.0),
+            &v(1.0, 0.0, 0.0),
+            &v(0.0, -1.0, 0.5),
+            &v(0.0, 1.0, 0.5),
+        );
         assert!((d - 0.5).abs() < 1e-12);
         // Past an end the distance is to that end.
-        let d = segment_distance(&v(0.0, 0.0, 0.0), &v(1.0, 0.0, 0.0), &v(2.0, 0.0, 0.0), &v(3.0, 0.0, 0.0));
+        let d = segment_distance(
+            &v(0.0, 0.0, 0.0),
+            &v(1.0, 0.0, 0.0),
+            &v(2.0, 0.0, 0.0),
+            &v(3.0, 0.0, 0.0),
+        );
         assert!((d - 1.0).abs() < 1e-12);
     }
 

@@ -43,7 +43,10 @@ fn yarns_inside_each_other_overlap_and_are_rejected_only_with_contact() {
     // Four segments each side, every one within 0.1 mm of up to three.
     assert!(c.overlaps >= 4, "{c:?}");
     assert!((c.min_gap_ratio - 0.25).abs() < 1e-9, "{c:?}");
-    assert_eq!(c.rejection(&Limits::default(), true), Some(Rejection::Overlaps(c.overlaps)));
+    assert_eq!(
+        c.rejection(&Limits::default(), true),
+        Some(Rejection::Overlaps(c.overlaps))
+    );
     assert_eq!(c.rejection(&Limits::default(), false), None);
     // Touching but not inside: 0.3 mm apart is 0.75 of the radii's sum.
     let c = check_state(&parallel(0.3e-3), &params(), &Limits::default());
@@ -65,7 +68,10 @@ fn nan_and_stretch_are_counted_and_rejected() {
     f.nodes[last].x.x += 0.4e-3;
     let c = check_state(&f, &params(), &Limits::default());
     assert!((c.max_strain - 0.2).abs() < 1e-9, "{c:?}");
-    assert_eq!(c.rejection(&Limits::default(), false), Some(Rejection::Strain(c.max_strain)));
+    assert_eq!(
+        c.rejection(&Limits::default(), false),
+        Some(Rejection::Strain(c.max_strain))
+    );
 
     // A real segment without rest length has no finite strain.
     let mut f = crossing();
