@@ -79,7 +79,8 @@ fn markdown(w: &mut dyn Write, opts: &SuiteOptions, rows: &[CaseRow]) -> std::io
          contact on); largest axial strain `| |dx|/du - 1 |` over real segments (must stay below \
          {:.0}%). `gap` is the smallest centre-line distance of a checked pair over the sum of \
          its radii. `residual` is the relaxer's stopping quantity (largest free force / `ks`, \
-         tolerance 1e-3). A run whose final state fails a check is reported not converged.\n",
+         tolerance 1e-3). A run whose final state fails a check is reported not converged. A \
+         case that ended in an error has no final state: `-`.\n",
         limits.overlap_fraction,
         100.0 * limits.max_strain
     )?;
@@ -89,19 +90,29 @@ fn markdown(w: &mut dyn Write, opts: &SuiteOptions, rows: &[CaseRow]) -> std::io
     )?;
     writeln!(w, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
     for r in rows {
+        // A case that ended in an error or a panic has no final state to
+        // measure: its measured columns are left empty.
+        let measured = matches!(r.outcome, CaseOutcome::Converged | CaseOutcome::NotConverged(_));
+        let cols = if measured {
+            format!(
+                "{} | {} | {:.2e} | {} | {} | {:.2} | {:.2}%",
+                r.steps,
+                r.newton_iterations,
+                r.residual,
+                r.checks.non_finite,
+                r.checks.overlaps,
+                r.checks.min_gap_ratio,
+                100.0 * r.checks.max_strain
+            )
+        } else {
+            "- | - | - | - | - | - | -".to_string()
+        };
         writeln!(
             w,
-            "| {} | {} | {} | {} | {} | {:.2e} | {} | {} | {:.2} | {:.2}% | {:.1} | {} |",
+            "| {} | {} | {} | {cols} | {:.1} | {} |",
             r.name,
             if r.contact { "on" } else { "off" },
             r.outcome.label(),
-            r.steps,
-            r.newton_iterations,
-            r.residual,
-            r.checks.non_finite,
-            r.checks.overlaps,
-            r.checks.min_gap_ratio,
-            100.0 * r.checks.max_strain,
             r.wall_s,
             r.outcome.detail().replace('|', "/").replace('\n', " ")
         )?;
