@@ -179,7 +179,7 @@ pub fn check_state(f: &Fabric, params: &SimParams, limits: &Limits) -> StateChec
     let x: Vec<_> = f.nodes.iter().map(|n| n.x).collect();
     let pairs: Vec<[usize; 2]> = segs.iter().map(|s| s.nodes).collect();
     let sum = |i: usize, j: usize| segs[i].radius + segs[j].radius;
-    for (i, j, d) in segments::close_pairs(&x, &pairs, &sum) {
+    for (i, j, d) in segments::close_pairs(&x, &pairs, sum) {
         let (a, b) = (&segs[i], &segs[j]);
         let same_yarn_near = a.yarn == b.yarn && (b.u.0 - a.u.1).max(a.u.0 - b.u.1) < sum(i, j);
         if a.nodes.iter().any(|n| b.nodes.contains(n)) || same_yarn_near || joined(i, j) {
