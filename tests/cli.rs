@@ -105,7 +105,7 @@ fn a_malformed_pattern_is_an_error_at_its_line_and_column_and_writes_nothing() {
     let pattern = "tests/malformed/unknown-symbol.knit";
     let run = knitsim(&["relax", pattern, "-o", out.to_str().unwrap()]);
     let stderr = text(&run.stderr);
-    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert_eq!(run.status.code(), Some(2), "bad input: {stderr}");
     let at = format!("{pattern}:");
     let location = stderr
         .split(&at)
@@ -138,11 +138,11 @@ fn a_broken_scene_file_is_an_error_at_its_line_and_column() {
         scene.to_str().unwrap(),
     ]);
     let stderr = text(&run.stderr);
-    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert_eq!(run.status.code(), Some(2), "bad input: {stderr}");
     assert!(stderr.contains(&format!("{}:2:21:", scene.display())), "{stderr}");
     assert!(!out.exists() || std::fs::read_dir(&out).unwrap().count() == 0);
     let run = knitsim(&["relax", &pattern, "-o", out.to_str().unwrap(), "--tol", "NaN"]);
-    assert_eq!(run.status.code(), Some(1));
+    assert_eq!(run.status.code(), Some(2));
     assert!(text(&run.stderr).contains("--tol must be a positive number"));
 }
 
@@ -309,7 +309,7 @@ fn shape_gap_thins_the_compiled_topology_and_a_negative_gap_is_refused() {
     );
 
     let (run, out) = compiled("-1");
-    assert!(!run.status.success());
+    assert_eq!(run.status.code(), Some(2), "a refused option is bad input");
     let stderr = text(&run.stderr);
     assert!(
         stderr.contains("linen-stitch.knit") && stderr.contains("shape_gap"),
@@ -360,11 +360,59 @@ fn the_bending_hessian_flag_and_scene_key_are_read_and_checked() {
         "--scene",
         scene.to_str().unwrap(),
     ]);
-    assert_eq!(run.status.code(), Some(2), "{}", text(&run.stderr));
+    assert_eq!(run.status.code(), Some(2), "bad input: {}", text(&run.stderr));
     assert!(
         text(&run.stderr).contains(&format!("{}:1:", scene.display())),
         "{}",
         text(&run.stderr)
     );
     assert!(!refused.exists() || std::fs::read_dir(&refused).unwrap().count() == 0);
+}
+
+/// Exit status 0 for a converged run, 2 for an input that cannot be read,
+/// 3 for a run stopped by the step cap (whose state is still written), and
+/// the codes are documented in `--help`.
+#[test]
+fn exit_status_tells_converged_bad_input_and_not_converged_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let pattern = small_stockinette(dir.path());
+    let out = dir.path().join("converged");
+    let run = knitsim(&["relax", &pattern, "-o", out.to_str().unwrap()]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+
+    let missing = dir.path().join("no-such.knit");
+    let out = dir.path().join("missing");
+    let run = knitsim(&["relax", missing.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(run.status.code(), Some(2), "{}", text(&run.stderr));
+    assert!(!out.join("state.json").exists());
+
+    let out = dir.path().join("capped");
+    // A tolerance no single step reaches, so the cap always comes first.
+    let run = knitsim(&[
+        "relax",
+        &pattern,
+        "-o",
+        out.to_str().unwrap(),
+        "--max-steps",
+        "1",
+        "--tol",
+        "1e-9",
+    ]);
+    let stdout = text(&run.stdout);
+    assert_eq!(run.status.code(), Some(3), "{stdout}\n{}", text(&run.stderr));
+    assert!(stdout.contains("not converged: residual"), "{stdout}");
+    assert!(
+        stdout.lines().last().unwrap_or_default().contains("(NOT converged"),
+        "{stdout}"
+    );
+    let state = std::fs::metadata(out.join("state.json")).map(|m| m.len()).unwrap_or(0);
+    assert!(state > 0, "the capped run's state.json is missing");
+
+    let help = text(&knitsim(&["--help"]).stdout);
+    for code in ["0 ", "1 ", "2 ", "3 ", "130 "] {
+        assert!(
+            help.contains(&format!("\n  {code}")),
+            "exit status {code}missing from --help:\n{help}"
+        );
+    }
 }

@@ -2,10 +2,13 @@
 //! CLI accepts them, and the relax job with its outputs. Kept in the library
 //! (not the binary) so tests and examples run exactly what the CLI runs.
 
+pub mod checks;
 pub mod input;
 pub mod relax_job;
+pub mod stability;
 pub mod summary;
 
+pub use checks::{check_state, Limits, NotConverged, RunStatus, StateChecks};
 pub use input::{load_fabric, InputError, Loaded};
 pub use relax_job::{run_relax, RelaxJob, RelaxOutcome};
 pub use summary::Summary;

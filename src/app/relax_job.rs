@@ -9,9 +9,10 @@
 //! quantity and its force scale, energy, wall time). Every file is written
 //! atomically, so a stopped run never leaves a half-written output.
 
+use super::checks::{check_state, Limits, RunStatus, StateChecks};
 use super::summary::Summary;
 use crate::io::{
-    save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
+    fit_preview, save_json, write_atomic, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
 use crate::sim::{relax, RelaxOptions, RelaxReport, RemovalCause, SimError, SimParams, Simulation};
 use crate::solver::linear::LinearSolver;
@@ -68,6 +69,11 @@ pub struct RelaxOutcome {
     pub pending_kind_changes: usize,
     /// What `summary.json` holds.
     pub summary: Summary,
+    /// The state checks on the final state (`app::checks`).
+    pub checks: StateChecks,
+    /// Converged only if the stopping test passed and the checks accept the
+    /// state; `report.converged` is cleared when they do not.
+    pub status: RunStatus,
 }
 
 /// Runs the relaxation and writes all outputs. `on_step(step, residual)`
@@ -89,7 +95,7 @@ pub fn run_relax(
     let scale = crate::sim::ForceScale::of(sim.fabric(), sim.params()).value;
     let mut rows = Vec::new();
     let step = std::cell::Cell::new(0usize);
-    let report = {
+    let mut report = {
         let mut on_iter = |s: &crate::solver::newton::IterStats, eil: usize| {
             rows.push(CsvRow {
                 elapsed_s: start.elapsed().as_secs_f64(),
@@ -109,13 +115,22 @@ pub fn run_relax(
     };
     let wall_s = start.elapsed().as_secs_f64();
     let mut out = sim.snapshot();
+    let checks = check_state(&out, sim.params(), &Limits::default());
+    let status = RunStatus::of(
+        &report,
+        job.options.tol,
+        &checks,
+        &Limits::default(),
+        sim.params().contact_on(),
+    );
+    report.converged &= status.is_converged();
     out.sim = Some(SimInfo {
         time: sim.time(),
         newton_iterations: report.newton_iterations,
         residual: report.residual,
     });
     let energy = sim.potential_energy()?;
-    let summary = Summary::new(&out, &grid, &report, job.options.tol, energy, wall_s);
+    let summary = Summary::new(&out, &grid, &report, job.options.tol, energy, wall_s, checks);
     write_outputs(&out, &job.out_dir, &rows)?;
     summary.write(&job.out_dir.join("summary.json"))?;
     let count = |which: fn(&RemovalCause) -> bool| sim.removed().iter().filter(|r| which(&r.cause)).count();
@@ -128,6 +143,8 @@ pub fn run_relax(
         separated_contacts: count(|c| !c.is_slid_off()),
         pending_kind_changes: sim.pending_kind_changes(),
         summary,
+        checks,
+        status,
     })
 }
 
@@ -135,7 +152,7 @@ fn write_outputs(f: &Fabric, dir: &Path, rows: &[CsvRow]) -> Result<(), IoError>
     save_json(f, &dir.join("state.json"))?;
     write_vtk(f, &dir.join("relaxed.vtk"), &VtkOptions::default())?;
     write_obj(f, &dir.join("relaxed.obj"), &ObjOptions::default())?;
-    write_png(f, &dir.join("relaxed.png"), &PngOptions::default())?;
+    write_png(f, &dir.join("relaxed.png"), &fit_preview(f, PngOptions::default()))?;
     write_atomic(&dir.join("convergence.csv"), |w: &mut dyn Write| {
         writeln!(
             w,

@@ -4,9 +4,11 @@
 //! (`topology::measure`), next to the gauge the pattern declares; the
 //! stopping quantity, its tolerance and its force scale say how far the
 //! state is from equilibrium (docs/RELAX.md, "Stopping test"); energy,
-//! steps, Newton iterations and wall time complete the record. The same
+//! steps, Newton iterations, wall time and the checks of the final state
+//! (crossed yarns, NaN, strain) complete the record. The same
 //! numbers make the final line of `knitsim relax`.
 
+use super::checks::StateChecks;
 use crate::io::{write_atomic, IoError};
 use crate::pattern::Gauge;
 use crate::sim::{ForceScale, RelaxReport};
@@ -51,10 +53,22 @@ pub struct Summary {
     pub steps: usize,
     pub newton_iterations: usize,
     pub wall_s: f64,
+    /// The independent checks of the final state (`app::checks`): NaN or
+    /// infinite coordinates, overlapping (crossed) segment pairs, largest
+    /// axial strain.
+    pub checks: StateChecks,
 }
 
 impl Summary {
-    pub fn new(state: &Fabric, grid: &StitchGrid, r: &RelaxReport, tol: f64, energy: f64, wall_s: f64) -> Self {
+    pub fn new(
+        state: &Fabric,
+        grid: &StitchGrid,
+        r: &RelaxReport,
+        tol: f64,
+        energy: f64,
+        wall_s: f64,
+        checks: StateChecks,
+    ) -> Self {
         Summary {
             pattern: state.meta.name.clone(),
             declared_gauge: state.meta.gauge,
@@ -69,6 +83,7 @@ impl Summary {
             steps: r.steps,
             newton_iterations: r.newton_iterations,
             wall_s,
+            checks,
         }
     }
 

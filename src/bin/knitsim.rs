@@ -4,11 +4,12 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob};
-use knitsim::io::{save_json, write_obj, write_png, write_vtk, ObjOptions, PngOptions, VtkOptions};
-use knitsim::pattern::ErrorKind;
+use knitsim::app::stability::{run_suite, CaseOutcome, SuiteOptions};
+use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob, RunStatus};
+use knitsim::io::{
+    fit_preview, save_json, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
+};
 use knitsim::rod::bending::BendingHessian;
-use knitsim::scene::SceneError;
 use knitsim::sim::{ContactModeName, ContactParams, RelaxOptions};
 use knitsim::solver::linear::{select, AutoParams};
 use knitsim::topology::CompileOptions;
@@ -17,7 +18,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 #[derive(Parser)]
-#[command(name = "knitsim", version, about = "Knit patterns to yarn-level simulation")]
+#[command(
+    name = "knitsim",
+    version,
+    about = "Knit patterns to yarn-level simulation",
+    after_help = EXIT_CODES
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -28,6 +34,27 @@ struct Cli {
     #[arg(long, global = true, value_name = "DIAMETERS", default_value_t = 0.0)]
     shape_gap: f64,
 }
+
+/// The exit statuses, as `--help` and the README state them.
+const EXIT_CODES: &str = "Exit status:
+  0    success; for relax: converged
+  1    internal or other error; for stability: a case panicked, produced NaN,
+       or was called converged on a state its checks reject
+  2    bad input: command line, pattern, scene, or a file that cannot be read
+       or written
+  3    relax: not converged (step cap reached or final state rejected by the
+       state checks); the state is still written
+  130  relax: stopped by Ctrl-C; the state reached is still written";
+
+const EXIT_ERROR: i32 = 1;
+const EXIT_BAD_INPUT: i32 = 2;
+const EXIT_NOT_CONVERGED: i32 = 3;
+const EXIT_STOPPED: i32 = 130;
+
+/// A command-line value the parser accepted but the command cannot use.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct BadArgument(String);
 
 #[derive(Subcommand)]
 enum Command {
@@ -88,6 +115,15 @@ enum Command {
         #[arg(long, value_name = "MODEL")]
         bending_hessian: Option<BendingHessian>,
     },
+    /// Run the numerical stability suite (stiff and extreme cases) and write
+    /// stability.md and stability.csv to the output directory.
+    Stability {
+        #[arg(short, long)]
+        output: PathBuf,
+        /// A small subset on a 4x4 swatch (for CI).
+        #[arg(long)]
+        quick: bool,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -110,39 +146,51 @@ impl From<SolverChoice> for knitsim::solver::linear::SolverChoice {
     }
 }
 
-/// Exit status of a pattern or scene file that cannot be read as one (the
-/// error names its file, line and column); other failures exit with 1.
-const BAD_INPUT: i32 = 2;
-
 fn main() {
-    if let Err(e) = run(Cli::parse()) {
-        // A pattern diagnostic comes with its own "error:" heading and snippet.
-        if let Some(InputError::Pattern(diagnostic)) = e.downcast_ref::<InputError>() {
-            eprintln!("{diagnostic}");
-        } else {
-            eprintln!("error: {e:#}");
+    let code = match run(Cli::parse()) {
+        Ok(code) => code,
+        Err(e) => {
+            // A pattern diagnostic comes with its own "error:" heading and snippet.
+            if let Some(InputError::Pattern(diagnostic)) = e.downcast_ref::<InputError>() {
+                eprintln!("{diagnostic}");
+            } else {
+                eprintln!("error: {e:#}");
+            }
+            exit_code(&e)
         }
-        std::process::exit(if is_bad_input(&e) { BAD_INPUT } else { 1 });
-    }
+    };
+    std::process::exit(code);
 }
 
-/// A malformed pattern or scene (not one that could not be opened).
-fn is_bad_input(e: &anyhow::Error) -> bool {
-    match (e.downcast_ref::<InputError>(), e.downcast_ref::<SceneError>()) {
-        (Some(InputError::Pattern(p)), _) => !matches!(p.kind, ErrorKind::Io(_)),
-        (_, Some(SceneError::Parse { .. } | SceneError::Invalid { .. })) => true,
-        _ => false,
+/// Bad input (2) when the error's chain names an input, a scene, a file
+/// that cannot be read or written, or a refused argument; 1 otherwise.
+fn exit_code(e: &anyhow::Error) -> i32 {
+    for cause in e.chain() {
+        if cause.is::<InputError>() || cause.is::<knitsim::scene::SceneError>() || cause.is::<BadArgument>() {
+            return EXIT_BAD_INPUT;
+        }
+        if let Some(io) = cause.downcast_ref::<IoError>() {
+            return match io {
+                IoError::Export { .. } => EXIT_ERROR,
+                _ => EXIT_BAD_INPUT,
+            };
+        }
+        if cause.is::<std::io::Error>() {
+            return EXIT_BAD_INPUT;
+        }
     }
+    EXIT_ERROR
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli) -> Result<i32> {
     let opts = CompileOptions {
         shape_gap: cli.shape_gap,
         ..CompileOptions::default()
     };
     match cli.command {
-        Command::Compile { pattern, output, stats } => compile(&pattern, &opts, &output, stats),
-        Command::Export { input, vtk, obj, png } => export(&input, &opts, vtk, obj, png),
+        Command::Compile { pattern, output, stats } => compile(&pattern, &opts, &output, stats).map(|()| 0),
+        Command::Export { input, vtk, obj, png } => export(&input, &opts, vtk, obj, png).map(|()| 0),
+        Command::Stability { output, quick } => stability(&output, quick),
         Command::Relax {
             input,
             output,
@@ -203,7 +251,9 @@ fn export(
     png: Option<PathBuf>,
 ) -> Result<()> {
     if vtk.is_none() && obj.is_none() && png.is_none() {
-        bail!("nothing to export: give at least one of --vtk, --obj, --png");
+        bail!(BadArgument(
+            "nothing to export: give at least one of --vtk, --obj, --png".into()
+        ));
     }
     let f = load(input, opts)?.fabric;
     if let Some(p) = vtk {
@@ -215,7 +265,7 @@ fn export(
         println!("wrote {} (+ .mtl)", p.display());
     }
     if let Some(p) = png {
-        write_png(&f, &p, &PngOptions::default())?;
+        write_png(&f, &p, &fit_preview(&f, PngOptions::default()))?;
         println!("wrote {}", p.display());
     }
     Ok(())
@@ -236,9 +286,12 @@ fn relax(
     (solver, scene, no_eil, contact, bending_hessian): RelaxFlags,
     options: RelaxOptions,
     opts: &CompileOptions,
-) -> Result<()> {
+) -> Result<i32> {
     if !(options.tol > 0.0 && options.tol.is_finite()) {
-        bail!("--tol must be a positive number, got {}", options.tol);
+        bail!(BadArgument(format!(
+            "--tol must be a positive number, got {}",
+            options.tol
+        )));
     }
     let fabric = load(input, opts)?.fabric;
     let mut params = knitsim::scene::params_for(&fabric, scene)?;
@@ -266,6 +319,7 @@ fn relax(
         ProgressStyle::with_template("{spinner} relax [{elapsed_precise}] step {pos}/{len} {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
+    let contact_on = params.contact_on();
     let job = RelaxJob {
         params,
         options,
@@ -304,17 +358,63 @@ fn relax(
             outcome.pending_kind_changes
         );
     }
-    let state = if r.converged {
-        "converged"
-    } else if r.cancelled {
-        "stopped by user"
-    } else {
-        "NOT converged"
+    let c = &outcome.checks;
+    let (state, code) = match outcome.status {
+        RunStatus::Converged => ("converged".to_string(), 0),
+        RunStatus::Stopped => ("stopped by user".to_string(), EXIT_STOPPED),
+        RunStatus::NotConverged(why) => {
+            println!("not converged: {why}");
+            ("NOT converged".to_string(), EXIT_NOT_CONVERGED)
+        }
     };
+    println!(
+        "state checks: {} NaN/inf, {} overlapping segment pairs, largest axial strain {:.2}%",
+        c.non_finite,
+        c.overlaps,
+        100.0 * c.max_strain
+    );
+    if c.overlaps > 0 && outcome.status != RunStatus::Stopped && !contact_on {
+        println!(
+            "{} segment pair(s) overlap: thickness contact is off, so yarns may pass through each \
+             other (--contact filtered keeps them apart)",
+            c.overlaps
+        );
+    }
     println!("{}", outcome.summary.gauge_line());
     println!(
         "largest free force {:.3e} x force scale {:.2e} N ({state}, tol {:.1e}), energy {:.4e} J, wall time {:.2} s",
         r.residual, r.force_scale.value, options.tol, outcome.summary.energy, outcome.wall_s
     );
-    Ok(())
+    Ok(code)
+}
+
+fn stability(out: &Path, quick: bool) -> Result<i32> {
+    let opts = SuiteOptions { quick };
+    eprintln!("{} cases; outputs in {}", opts.cases().len(), out.display());
+    let rows = run_suite(out, opts, &mut |r| {
+        eprintln!(
+            "{:<32} {:<14} {:>3} steps {:>4} Newton  residual {:.2e}  NaN {}  overlaps {}  strain {:.2}%  {:.1} s  {}",
+            r.name,
+            r.outcome.label(),
+            r.steps,
+            r.newton_iterations,
+            r.residual,
+            r.checks.non_finite,
+            r.checks.overlaps,
+            100.0 * r.checks.max_strain,
+            r.wall_s,
+            r.outcome.detail()
+        )
+    })?;
+    println!(
+        "wrote {} and {}",
+        out.join("stability.md").display(),
+        out.join("stability.csv").display()
+    );
+    let bad = rows.iter().filter(|r| {
+        matches!(r.outcome, CaseOutcome::Panic(_))
+            || r.checks.non_finite > 0
+            || (r.outcome == CaseOutcome::Converged && !r.checks_pass())
+    });
+    Ok(if bad.count() > 0 { EXIT_ERROR } else { 0 })
 }

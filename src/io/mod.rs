@@ -37,7 +37,7 @@ pub use atomic::write_atomic;
 pub use error::{ExportError, IoError};
 pub use json::{load_json, save_json};
 pub use obj::{write_obj, ObjOptions};
-pub use png::{render_preview, write_png, Background, PngOptions, PngScale};
+pub use png::{fit_preview, render_preview, write_png, Background, PngOptions, PngScale};
 pub use smooth::SmoothOptions;
 pub use tube::{TubeMesh, TubeOptions};
 pub use vtk::{write_vtk, VtkCells, VtkOptions};

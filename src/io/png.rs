@@ -439,5 +439,8 @@ fn linear_to_srgb(c: f64) -> u8 {
 }
 
 pub mod background;
+mod fit;
+
+pub use fit::fit_preview;
 #[cfg(test)]
 mod tests;

@@ -110,6 +110,12 @@ impl Default for SimParams {
 }
 
 impl SimParams {
+    /// Whether thickness contact between yarns is on (a `"contact"` whose
+    /// mode is not `none`).
+    pub fn contact_on(&self) -> bool {
+        self.contact.as_ref().is_some_and(|c| c.mode != ContactModeName::None)
+    }
+
     /// The radius of every yarn of `f` (m), by [`SimParams::radii`].
     pub fn yarn_radii(&self, f: &Fabric) -> Vec<f64> {
         f.yarns
