@@ -66,36 +66,3 @@ pub fn check_derivatives<const N: usize, S: Stencil<N>>(s: &S, x: &SVector<f64, 
         "Hessian not symmetric"
     );
 }
-
-/// Asserts that [`Stencil::derivatives_pair`] gives, bit for bit, what two
-/// [`Stencil::derivatives`] calls give, projected and plain, in both orders.
-pub fn assert_pair_is_two_singles<const N: usize, S: Stencil<N>>(
-    a: &S,
-    xa: &SVector<f64, N>,
-    b: &S,
-    xb: &SVector<f64, N>,
-) {
-    let bits = |(g, h): &super::Derivatives<N>| -> Vec<u64> { g.iter().chain(h.iter()).map(|v| v.to_bits()).collect() };
-    for project in [true, false] {
-        let singles = [a.derivatives(xa, project), b.derivatives(xb, project)];
-        let pair = S::derivatives_pair(a, xa, b, xb, project);
-        let swapped = S::derivatives_pair(b, xb, a, xa, project);
-        for (k, (single, paired)) in singles.iter().zip(&pair).enumerate() {
-            assert_eq!(
-                bits(single),
-                bits(paired),
-                "stencil {k} of the pair, project = {project}"
-            );
-        }
-        assert_eq!(
-            bits(&singles[0]),
-            bits(&swapped[1]),
-            "swapped pair, project = {project}"
-        );
-        assert_eq!(
-            bits(&singles[1]),
-            bits(&swapped[0]),
-            "swapped pair, project = {project}"
-        );
-    }
-}

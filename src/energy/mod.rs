@@ -8,7 +8,6 @@
 
 pub mod fd;
 pub mod psd;
-pub mod symmetric_qr;
 
 use nalgebra::{SMatrix, SVector};
 
@@ -29,43 +28,4 @@ pub trait Stencil<const N: usize> {
         let h = self.hessian(x);
         (self.gradient(x), if project { psd::project_psd(&h) } else { h })
     }
-
-    /// [`derivatives`](Self::derivatives) of two stencils of this kind,
-    /// each result bit for bit its own call's. Assembly evaluates stencils
-    /// in pairs through this, so a stencil whose projection is a
-    /// latency-bound eigen-decomposition can interleave the two
-    /// ([`psd::project_psd_pair`]); the default is two calls.
-    fn derivatives_pair(
-        a: &Self,
-        xa: &SVector<f64, N>,
-        b: &Self,
-        xb: &SVector<f64, N>,
-        project: bool,
-    ) -> [Derivatives<N>; 2]
-    where
-        Self: Sized,
-    {
-        [a.derivatives(xa, project), b.derivatives(xb, project)]
-    }
-}
-
-/// [`Stencil::derivatives_pair`] for a stencil that keeps the default
-/// [`Stencil::derivatives`] (its whole Hessian projected): the two
-/// projections interleaved, bit for bit the two single calls. A stencil
-/// opts in by overriding `derivatives_pair` with this; it cannot be the
-/// trait's default, which must respect an overridden `derivatives`.
-pub fn whole_hessian_pair<const N: usize, S: Stencil<N>>(
-    a: &S,
-    xa: &SVector<f64, N>,
-    b: &S,
-    xb: &SVector<f64, N>,
-    project: bool,
-) -> [Derivatives<N>; 2] {
-    let (ha, hb) = (a.hessian(xa), b.hessian(xb));
-    let [ha, hb] = if project {
-        psd::project_psd_pair(&ha, &hb)
-    } else {
-        [ha, hb]
-    };
-    [(a.gradient(xa), ha), (b.gradient(xb), hb)]
 }

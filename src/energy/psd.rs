@@ -3,14 +3,12 @@
 //! Newton needs a descent direction; a stencil's exact Hessian can be
 //! indefinite (bending past straight, a stretched spring's transverse modes,
 //! barriers). Clamping each stencil's negative eigenvalues to zero keeps the
-//! assembled matrix PSD at the cost of a slightly worse model. The
-//! projection uses nalgebra's symmetric QR (the fastest here) in the
-//! fixed-size port of [`symmetric_qr`], which gives the same bits and can
-//! run two decompositions interleaved; nalgebra itself and then the cyclic
-//! Jacobi [`sym_eigen`] stay as the fallbacks when QR does not converge
-//! (non-finite input), and Jacobi as an independent check in tests.
-
-use super::symmetric_qr;
+//! assembled matrix PSD at the cost of a slightly worse model. A Cholesky
+//! test lets the many stencils that are already PSD skip the
+//! eigen-decomposition; the others go through nalgebra's
+//! [`SymmetricEigen`], with the cyclic Jacobi [`sym_eigen`] as the fallback
+//! where it does not converge (non-finite input) and as an independent
+//! check in tests.
 use nalgebra::{DMatrix, SMatrix, SymmetricEigen};
 
 /// Symmetric eigen-decomposition by cyclic Jacobi: returns (eigenvalues, eigenvectors as columns).
@@ -114,7 +112,7 @@ pub fn project_psd<const N: usize>(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N>
 /// The projection of `m`, whose symmetric part is `sym`, once the PSD test
 /// has failed.
 fn project_indefinite<const N: usize>(m: &SMatrix<f64, N, N>, sym: SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-    let (ev, v) = symmetric_qr::eigen(&sym.data.0, f64::EPSILON, 100 * N).unwrap_or_else(|| nalgebra_eigen(m, &sym));
+    let (ev, v) = eigen(m, &sym);
     clamped(sym, &ev, &v)
 }
 
@@ -122,47 +120,42 @@ fn symmetrised<const N: usize>(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
     (m + m.transpose()) * 0.5
 }
 
-/// [`project_psd`] of two matrices, bit for bit, with their
-/// eigen-decompositions interleaved ([`symmetric_qr::eigen_pair`]): 20%
-/// less time for two indefinite 8x8 blocks than one after the other.
-pub fn project_psd_pair<const N: usize>(a: &SMatrix<f64, N, N>, b: &SMatrix<f64, N, N>) -> [SMatrix<f64, N, N>; 2] {
-    let (sa, sb) = (symmetrised(a), symmetrised(b));
-    match (is_numerically_psd(a), is_numerically_psd(b)) {
-        (true, true) => return [sa, sb],
-        (true, false) => return [sa, project_indefinite(b, sb)],
-        (false, true) => return [project_indefinite(a, sa), sb],
-        (false, false) => {}
+/// Eigenvalues and eigenvectors (as columns) of `sym`, the symmetric part
+/// of `m`: nalgebra's [`SymmetricEigen`], or the capped Jacobi sweeps of
+/// `m` where that does not converge (non-finite entries).
+///
+/// `SymmetricEigen` needs a dimension it can subtract 1 from, which a
+/// generic const `N` is not; the stencil sizes are therefore matched to
+/// their fixed-size type (stack storage), and any other size goes through
+/// a heap copy.
+fn eigen<const N: usize>(m: &SMatrix<f64, N, N>, sym: &SMatrix<f64, N, N>) -> ([f64; N], [[f64; N]; N]) {
+    macro_rules! fixed_sizes {
+        ($($n:literal),*) => {
+            match N {
+                $($n => SymmetricEigen::try_new(SMatrix::<f64, $n, $n>::from_fn(|i, j| sym[(i, j)]), f64::EPSILON, 100 * N)
+                    .map(|se| unpack(se.eigenvalues.as_slice(), |i, j| se.eigenvectors[(i, j)])),)*
+                _ => SymmetricEigen::try_new(DMatrix::from_fn(N, N, |i, j| sym[(i, j)]), f64::EPSILON, 100 * N)
+                    .map(|se| unpack(se.eigenvalues.as_slice(), |i, j| se.eigenvectors[(i, j)])),
+            }
+        };
     }
-    let [ra, rb] = symmetric_qr::eigen_pair(&sa.data.0, &sb.data.0, f64::EPSILON, 100 * N);
-    let (ea, va) = ra.unwrap_or_else(|| nalgebra_eigen(a, &sa));
-    let (eb, vb) = rb.unwrap_or_else(|| nalgebra_eigen(b, &sb));
-    [clamped(sa, &ea, &va), clamped(sb, &eb, &vb)]
+    fixed_sizes!(2, 3, 4, 6, 8, 9, 12, 18).unwrap_or_else(|| {
+        let (ev, v) = sym_eigen(m);
+        (ev, v.data.0)
+    })
 }
 
-/// Where [`symmetric_qr`] gives up (non-finite entries, or no convergence):
-/// nalgebra's own decomposition, as the projection always did, and the
-/// capped Jacobi sweeps where that fails too. nalgebra needs a dimension it
-/// can subtract 1 from, which a generic const `N` is not, hence the heap
-/// copy.
-fn nalgebra_eigen<const N: usize>(m: &SMatrix<f64, N, N>, sym: &SMatrix<f64, N, N>) -> ([f64; N], [[f64; N]; N]) {
-    let d = DMatrix::from_fn(N, N, |i, j| sym[(i, j)]);
-    match SymmetricEigen::try_new(d, f64::EPSILON, 100 * N) {
-        Some(se) => (
-            std::array::from_fn(|i| se.eigenvalues[i]),
-            std::array::from_fn(|j| std::array::from_fn(|i| se.eigenvectors[(i, j)])),
-        ),
-        None => {
-            let (ev, v) = sym_eigen(m);
-            (ev, v.data.0)
-        }
-    }
+/// Eigenvalues and column-major eigenvectors as arrays.
+fn unpack<const N: usize>(values: &[f64], vectors: impl Fn(usize, usize) -> f64) -> ([f64; N], [[f64; N]; N]) {
+    (
+        std::array::from_fn(|i| values[i]),
+        std::array::from_fn(|j| std::array::from_fn(|i| vectors(i, j))),
+    )
 }
 
 /// `sum_i max(e_i, 0) v_i v_i^T` from eigenpairs (vectors as columns), or
-/// `sym` itself when no eigenvalue is negative. Formed entry by entry as
-/// `(v_ri v_si) e_i`, summed over `i` in order, on the lower triangle and
-/// mirrored: the products are commutative, so this is bit for bit the
-/// full sum of outer products.
+/// `sym` itself when no eigenvalue is negative. Formed on the lower
+/// triangle and mirrored, so the result is exactly symmetric.
 fn clamped<const N: usize>(sym: SMatrix<f64, N, N>, ev: &[f64; N], v: &[[f64; N]; N]) -> SMatrix<f64, N, N> {
     if ev.iter().all(|&e| e >= 0.0) {
         return sym;
@@ -214,17 +207,6 @@ pub fn project_psd_block<const N: usize, const R: usize>(
     anchor: &[usize; R],
 ) -> SMatrix<f64, N, N> {
     expand(&project_psd(&symmetrized(block)), kept, anchor)
-}
-
-/// [`project_psd_block`] of two blocks, bit for bit, through
-/// [`project_psd_pair`].
-pub fn project_psd_block_pair<const N: usize, const R: usize>(
-    a: &SMatrix<f64, R, R>,
-    b: &SMatrix<f64, R, R>,
-    kept: &[usize; R],
-    anchor: &[usize; R],
-) -> [SMatrix<f64, N, N>; 2] {
-    project_psd_pair(&symmetrized(a), &symmetrized(b)).map(|p| expand(&p, kept, anchor))
 }
 
 fn symmetrized<const R: usize>(b: &SMatrix<f64, R, R>) -> SMatrix<f64, R, R> {
@@ -356,67 +338,120 @@ mod tests {
         }
     }
 
-    #[test]
-    fn clamping_on_the_lower_triangle_is_the_sum_of_outer_products() {
-        // The projection as written before the fixed-size port: nalgebra's
-        // decomposition and its outer products, bit for bit.
-        fn outer_products<const N: usize>(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-            let sym = (m + m.transpose()) * 0.5;
-            let se =
-                SymmetricEigen::try_new(DMatrix::from_fn(N, N, |i, j| sym[(i, j)]), f64::EPSILON, 100 * N).unwrap();
-            let mut out = SMatrix::<f64, N, N>::zeros();
-            for (i, &e) in se.eigenvalues.iter().enumerate() {
-                if e > 0.0 {
-                    let c = SMatrix::<f64, N, 1>::from_fn(|r, _| se.eigenvectors[(r, i)]);
-                    out += c * c.transpose() * e;
-                }
+    /// Asserts what a projection must give: a symmetric PSD matrix that
+    /// keeps every eigenpair of `m` with a positive eigenvalue (so it is
+    /// `m` itself when `m` is PSD), within `tol` of `|m|`.
+    fn assert_projection<const N: usize>(m: &SMatrix<f64, N, N>, tol: f64, what: &str) {
+        let p = project_psd(m);
+        let scale = m.norm().max(f64::MIN_POSITIVE);
+        assert!(p.iter().all(|v| v.is_finite()), "{what}: non-finite projection");
+        assert!((p - p.transpose()).norm() == 0.0, "{what}: not symmetric");
+        let (ev, v) = sym_eigen(m);
+        let (evp, _) = sym_eigen(&p);
+        assert!(evp.iter().all(|&e| e >= -tol * scale), "{what}: {evp:?}");
+        let mut want = SMatrix::<f64, N, N>::zeros();
+        for (i, &e) in ev.iter().enumerate() {
+            if e > 0.0 {
+                want += v.column(i) * v.column(i).transpose() * e;
             }
-            out
         }
-        let mut rng = crate::rod::testutil::Rng::new(5);
-        let mut next = || rng.range(-1.0, 1.0);
-        for _ in 0..200 {
-            let m = SMatrix::<f64, 8, 8>::from_fn(|_, _| next());
-            let want: Vec<u64> = outer_products(&m).iter().map(|v| v.to_bits()).collect();
-            let got: Vec<u64> = project_psd(&m).iter().map(|v| v.to_bits()).collect();
-            assert_eq!(got, want);
+        assert!(
+            (p - want).norm() <= tol * scale,
+            "{what}: off by {:e}",
+            (p - want).norm() / scale
+        );
+        if ev.iter().all(|&e| e >= 0.0) {
+            assert!((p - m).norm() <= tol * scale, "{what}: a PSD matrix moved");
         }
     }
 
+    /// Symmetric matrices that stress an eigen-solver: repeated, zero and
+    /// rank-one spectra, decoupled blocks, and extreme scales.
+    fn degenerate<const N: usize>() -> Vec<(&'static str, SMatrix<f64, N, N>)> {
+        let v = SMatrix::<f64, N, 1>::from_fn(|i, _| (i as f64 + 1.0) * if i % 2 == 0 { 1.0 } else { -0.5 });
+        vec![
+            ("zero", SMatrix::zeros()),
+            ("identity", SMatrix::identity()),
+            (
+                "diagonal with repeats",
+                SMatrix::from_fn(|i, j| if i == j { [2.0, -1.0, 2.0, 0.0][i % 4] } else { 0.0 }),
+            ),
+            ("rank one", v * v.transpose()),
+            ("negative rank one", -(v * v.transpose())),
+            (
+                "zero first column",
+                SMatrix::from_fn(|i, j| {
+                    if i * j == 0 {
+                        0.0
+                    } else {
+                        1.0 / (1.0 + (i + j) as f64) - 0.3
+                    }
+                }),
+            ),
+            (
+                "decoupled blocks",
+                SMatrix::from_fn(|i, j| match ((i < 2) == (j < 2), i == j) {
+                    (false, _) => 0.0,
+                    (true, true) => 3.0 - 2.0 * i as f64,
+                    (true, false) => 0.5,
+                }),
+            ),
+            (
+                "tiny",
+                SMatrix::from_fn(|i, j| 1e-150 * (1.0 + (i * j) as f64) * if i == j { -1.0 } else { 1.0 }),
+            ),
+            ("huge", SMatrix::from_fn(|i, j| 1e150 / (1.0 + (i + j) as f64))),
+        ]
+    }
+
     #[test]
-    fn paired_projections_are_two_single_ones_bit_for_bit() {
-        fn bits<const N: usize>(m: &SMatrix<f64, N, N>) -> Vec<u64> {
-            m.iter().map(|v| v.to_bits()).collect()
+    fn projections_are_psd_and_keep_the_positive_modes() {
+        fn at<const N: usize>(rng: &mut crate::rod::testutil::Rng) {
+            for (what, m) in degenerate::<N>() {
+                assert_projection(&m, 1e-12, what);
+            }
+            for k in 0..100 {
+                let a = SMatrix::<f64, N, N>::from_fn(|_, _| rng.range(-1.0, 1.0));
+                let m = a + a.transpose();
+                assert_projection(&m, 1e-12, "random");
+                // PSD inputs come back as they are.
+                assert_projection(&(a * a.transpose()), 1e-12, "random PSD");
+                // Scaled rows, like a stencil's stiff and soft unknowns.
+                let d = SMatrix::<f64, N, N>::from_fn(|i, j| if i == j { [1e3, 1.0, 1e-2][(i + k) % 3] } else { 0.0 });
+                assert_projection(&(d * m * d), 1e-11, "badly scaled");
+            }
         }
-        fn check<const N: usize>(a: &SMatrix<f64, N, N>, b: &SMatrix<f64, N, N>) {
-            let [pa, pb] = project_psd_pair(a, b);
-            assert_eq!(bits(&pa), bits(&project_psd(a)));
-            assert_eq!(bits(&pb), bits(&project_psd(b)));
+        let mut rng = crate::rod::testutil::Rng::new(5);
+        at::<2>(&mut rng);
+        at::<3>(&mut rng);
+        at::<8>(&mut rng);
+        at::<9>(&mut rng);
+        at::<12>(&mut rng);
+        at::<18>(&mut rng);
+    }
+
+    #[test]
+    fn bending_blocks_from_straight_to_folded_project_to_psd() {
+        use crate::energy::Stencil;
+        use crate::rod::bending::Bending;
+        let b = Bending::with_rest_angle(1e-6, 0.2);
+        let mut rng = crate::rod::testutil::Rng::new(7);
+        for k in 0..500 {
+            // Turning angles from 1e-6 to pi - 1e-6 rad, edges of 0.1 to 2 mm.
+            let theta = 1e-6 + k as f64 / 499.0 * (std::f64::consts::PI - 2e-6);
+            let (l1, l2) = (1e-3 * rng.range(1.05, 2.05), 1e-3 * rng.range(1.05, 2.05));
+            let mut q = nalgebra::SVector::<f64, 12>::zeros();
+            q[4] = l1;
+            q[8] = l1 + l2 * theta.cos();
+            q[9] = l2 * theta.sin();
+            q[10] = 1e-4 * rng.range(0.0, 1.0);
+            q[7] = 1e-3 * rng.range(1.5, 2.5);
+            q[11] = 3e-3 * rng.range(1.5, 2.5);
+            let h = b.hessian(&q);
+            const KEPT: [usize; 8] = [4, 5, 6, 7, 8, 9, 10, 11];
+            let block = SMatrix::<f64, 8, 8>::from_fn(|i, j| 0.5 * (h[(KEPT[i], KEPT[j])] + h[(KEPT[j], KEPT[i])]));
+            assert_projection(&block, 1e-10, &format!("bend at {theta:.3e} rad"));
         }
-        let mut rng = crate::rod::testutil::Rng::new(11);
-        let mut next = || rng.range(-1.0, 1.0);
-        let mut random = || SMatrix::<f64, 8, 8>::from_fn(|_, _| next() * 1e3);
-        let (mut indefinite, mut psd) = (random(), SMatrix::<f64, 8, 8>::identity());
-        let mut nan = random();
-        nan[(2, 5)] = f64::NAN;
-        for _ in 0..50 {
-            let other = random();
-            check(&indefinite, &other);
-            check(&psd, &other);
-            check(&other, &psd);
-            check(&nan, &other);
-            psd = other * other.transpose();
-            indefinite = other;
-        }
-        // Block pairs, through the 6x6 difference stencil of the test above.
-        let sign = |i: usize, j: usize| if (i < 3) == (j < 3) { 1.0 } else { -1.0 };
-        let h = SMatrix::<f64, 6, 6>::from_fn(|i, j| sign(i, j) * ((i % 3) as f64 - (j % 3) as f64 + 0.5));
-        let h2 = h * 2.0 - SMatrix::<f64, 6, 6>::identity();
-        let (kept, anchor) = ([3, 4, 5], [0, 1, 2]);
-        let block = |h: &SMatrix<f64, 6, 6>| SMatrix::<f64, 3, 3>::from_fn(|k, l| h[(kept[k], kept[l])]);
-        let [ra, rb] = project_psd_block_pair::<6, 3>(&block(&h), &block(&h2), &kept, &anchor);
-        assert_eq!(bits(&ra), bits(&project_psd_reduced(&h, &kept, &anchor)));
-        assert_eq!(bits(&rb), bits(&project_psd_reduced(&h2, &kept, &anchor)));
     }
 
     #[test]

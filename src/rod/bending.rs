@@ -24,7 +24,7 @@
 //! with `grad D` = -1 at `u0`, +1 at `u2`.
 
 use super::angle::{angle_energy, angle_gradient, angle_value, QuadraticAngle};
-use crate::energy::{Derivatives, Stencil};
+use crate::energy::Stencil;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 /// Which PSD Hessian Newton gets from a bending stencil.
@@ -212,22 +212,6 @@ impl Stencil<12> for Bending {
         let (_, g, h) = self.evaluate(q);
         (g, h)
     }
-    /// Two eigen-projected bends: their 8x8 eigen-decompositions run
-    /// interleaved, the same bits as one after the other.
-    fn derivatives_pair(
-        a: &Self,
-        xa: &SVector<f64, 12>,
-        b: &Self,
-        xb: &SVector<f64, 12>,
-        project: bool,
-    ) -> [Derivatives<12>; 2] {
-        if !project || a.hessian == BendingHessian::Split || b.hessian == BendingHessian::Split {
-            return [a.derivatives(xa, project), b.derivatives(xb, project)];
-        }
-        let ((ga, ha), (gb, hb)) = (a.kept_block(xa), b.kept_block(xb));
-        let [pa, pb] = crate::energy::psd::project_psd_block_pair(&ha, &hb, &KEPT, &ANCHOR);
-        [(ga, pa), (gb, pb)]
-    }
 }
 
 #[cfg(test)]
@@ -289,24 +273,6 @@ mod tests {
             assert_eq!(bits(gk.as_slice()), bits(g.as_slice()));
             assert_eq!(bits(block.as_slice()), bits(want.as_slice()));
         }
-    }
-
-    #[test]
-    fn paired_derivatives_are_two_single_ones_bit_for_bit() {
-        let mut rng = Rng::new(21);
-        let mut prev = (Bending::new(1.0), bent(&mut rng, 0.5, 1.0, 1.0));
-        // Straight, ordinary and folded bends, with and without a rest angle.
-        for theta in [1e-9, 1e-4, 0.3, 1.0, 2.0, PI - 1e-4, PI - 1e-9] {
-            for rest in [0.0, 0.4] {
-                let (l1, l2) = (rng.range(0.3, 2.0), rng.range(1e-6, 2.0));
-                let next = (Bending::with_rest_angle(2.0, rest), bent(&mut rng, theta, l1, l2));
-                crate::energy::fd::assert_pair_is_two_singles(&prev.0, &prev.1, &next.0, &next.1);
-                prev = next;
-            }
-        }
-        // The closed-form model (not interleaved) pairs up the same way.
-        let split = Bending::new(1.0).with_hessian(BendingHessian::Split);
-        crate::energy::fd::assert_pair_is_two_singles(&split, &prev.1, &prev.0, &bent(&mut rng, 1.0, 1.0, 1.0));
     }
 
     #[test]

@@ -46,8 +46,8 @@
 //! same stencil with the roles of A and B swapped.
 
 use super::jet::{Jet, JetVec3};
-use crate::energy::psd::{project_psd, project_psd_pair};
-use crate::energy::{Derivatives, Stencil};
+use crate::energy::psd::project_psd;
+use crate::energy::Stencil;
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::f64::consts::{PI, TAU};
 
@@ -235,29 +235,6 @@ impl Stencil<18> for Wrapping {
             None => (SVector::zeros(), SMatrix::zeros()),
         }
     }
-    /// Two projected wraps: their 9x9 eigen-decompositions run interleaved
-    /// ([`project_psd_pair`]), the same bits as one after the other.
-    fn derivatives_pair(
-        a: &Self,
-        xa: &SVector<f64, 18>,
-        b: &Self,
-        xb: &SVector<f64, 18>,
-        project: bool,
-    ) -> [Derivatives<18>; 2] {
-        if !project {
-            return [a.derivatives(xa, false), b.derivatives(xb, false)];
-        }
-        let expanded = |(g, h): (SVector<f64, 9>, SMatrix<f64, 9, 9>)| (expand_gradient(&g), expand_hessian(&h));
-        match (a.reduced(xa), b.reduced(xb)) {
-            (Some((_, ga, ha)), Some((_, gb, hb))) => {
-                let [pa, pb] = project_psd_pair(&ha, &hb);
-                [expanded((ga, pa)), expanded((gb, pb))]
-            }
-            (Some((_, g, h)), None) => [expanded((g, project_psd(&h))), (SVector::zeros(), SMatrix::zeros())],
-            (None, Some((_, g, h))) => [(SVector::zeros(), SMatrix::zeros()), expanded((g, project_psd(&h)))],
-            (None, None) => [(SVector::zeros(), SMatrix::zeros()); 2],
-        }
-    }
 }
 
 #[cfg(test)]
@@ -312,22 +289,6 @@ mod tests {
                 continue;
             }
             check_derivatives(&w, &q, 1e-6, 1e-5);
-        }
-    }
-
-    #[test]
-    fn paired_derivatives_are_two_single_ones_bit_for_bit() {
-        let mut rng = Rng::new(62);
-        let mut prev = (Wrapping::new(2.0, 0.3), rng.vector::<18>(1.0));
-        for k in 0..40 {
-            let next = (Wrapping::new(2.0, rng.range(-2.0, 2.0)), rng.vector::<18>(1.0));
-            crate::energy::fd::assert_pair_is_two_singles(&prev.0, &prev.1, &next.0, &next.1);
-            // Contacts with no wrap term (coincident P = Q, faded out) pair
-            // with live ones.
-            if k % 10 == 0 {
-                crate::energy::fd::assert_pair_is_two_singles(&prev.0, &contact(1.2, 0.2, 0.0), &next.0, &next.1);
-            }
-            prev = next;
         }
     }
 

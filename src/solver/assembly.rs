@@ -212,13 +212,16 @@ impl<S: Stencil<N> + Send + Sync, const N: usize> AnyStencilSet for StencilSet<S
         if !self.is_bound_to(h) {
             return Err(AssemblyError::Unbound { set: self.name.clone() });
         }
-        // Evaluated in pairs (`Stencil::derivatives_pair`); an odd last
-        // stencil is paired with itself and its twin dropped.
+        // Evaluated in pairs, so that each work item is two stencils; an
+        // odd last stencil is paired with itself and its twin dropped.
         let n = self.stencils.len();
         let pair = |p: usize| {
             let (a, b) = (2 * p, (2 * p + 1).min(n - 1));
             let (xa, xb) = (Self::gather(q, &self.dofs[a]), Self::gather(q, &self.dofs[b]));
-            S::derivatives_pair(&self.stencils[a], &xa, &self.stencils[b], &xb, project_psd)
+            [
+                self.stencils[a].derivatives(&xa, project_psd),
+                self.stencils[b].derivatives(&xb, project_psd),
+            ]
         };
         let scatter = |start: usize, block: &[[Derivatives<N>; 2]]| {
             for (k, (g, hl)) in (2 * start..n).zip(block.iter().flatten()) {

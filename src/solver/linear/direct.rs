@@ -27,13 +27,10 @@
 //!   indefinite but nonsingular systems. Every solve is checked by its
 //!   residual against the matrix actually factored, because a pivot that is
 //!   tiny rather than negative passes LLT and returns garbage.
-//! - **The supernodal LLT on every core** (`tree_llt`): faer computes the
-//!   ordering and the supernodes, and solves with the factor; the numeric
-//!   factorization walks the elimination tree on `parallel::threads()`
-//!   workers with the same operations as faer's sequential kernel, so the
-//!   factor is the same bit for bit. Its input is gathered once per
-//!   refactorization straight into the factor's ordering (`permuted`).
-//!   LDLT and small (simplicial) factors stay with faer.
+//! - **faer's numeric factorization.** faer computes the ordering and the
+//!   supernodes, refactors the lower triangle on every Newton iteration
+//!   (`factorize_numeric_llt`, sequential unless [`DirectParams::parallel`])
+//!   and solves with the factor.
 //! - **Subnormals flushed to zero** while factoring and solving
 //!   (`subnormals`): the factor of a heavily damped matrix fills with them,
 //!   and x86 computes them in microcode.
@@ -43,7 +40,6 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
@@ -51,14 +47,11 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
 use lower::LowerPattern;
 pub use ordering::Ordering;
-use permuted::PermutedLower;
 use subnormals::FlushSubnormals;
 
 mod lower;
 mod ordering;
-mod permuted;
 mod subnormals;
-mod tree_llt;
 
 /// Tuning of the fallback chain; see the module docs.
 #[derive(Clone, Copy, Debug)]
@@ -73,14 +66,12 @@ pub struct DirectParams {
     pub ldlt_last_resort: bool,
     /// A solve whose `|A x - b| / |b|` exceeds this counts as a failed factorization.
     pub max_rel_residual: f64,
-    /// Let faer solve, and factorize where it does (LDLT, simplicial
-    /// factors), on its rayon pool; the supernodal LLT runs on knitsim's
-    /// own threads (`tree_llt`) either way. Off by default: on
-    /// the 2-core machine the sequential supernodal factorization of a
-    /// 40x40 linen stitch's Newton matrix (63612 unknowns, 8.7M factor
-    /// entries) took 0.25 s against 0.36 s on the pool, and the pool's
-    /// idle workers spin (`sched_yield`) while the stencil threads of the
-    /// next assembly want the same cores. Worth turning on with many cores.
+    /// Let faer factorize and solve on its rayon pool. Off by default:
+    /// faer's parallel mode only splits the dense work inside one
+    /// supernode, which on the 2-core machine made the factorization
+    /// slower, and the pool's idle workers spin (`sched_yield`) while the
+    /// stencil threads of the next assembly want the same cores. Worth
+    /// turning on with many cores.
     pub parallel: bool,
     /// Fill-reducing ordering ([`Ordering`]): `None` analyses the scalar
     /// and, when groups are set, the grouped ordering, and keeps the one
@@ -133,10 +124,6 @@ struct Analysis {
     lower: LowerPattern,
     symbolic: SymbolicCholesky<usize>,
     ordering: Ordering,
-    /// For a supernodal factor: where each entry of the lower triangle goes
-    /// in the factor's order (`permuted`) and the elimination tree's
-    /// schedule (`tree_llt`), both fixed with the pattern.
-    supernodal: Option<(PermutedLower, tree_llt::TreePlan)>,
 }
 
 /// Sparse Cholesky with symbolic reuse; see the module docs.
@@ -232,19 +219,12 @@ impl DirectSolver {
         // within the development machine's noise.
         refill_zeros(&mut self.lower_values, lower.row_idx.len());
         refill_zeros(&mut self.factor_values, symbolic.len_val());
-        let supernodal = match (symbolic.raw(), symbolic.perm()) {
-            (SymbolicCholeskyRaw::Supernodal(sn), Some(perm)) => {
-                Some((PermutedLower::new(&lower, perm.arrays().1), tree_llt::TreePlan::new(sn)))
-            }
-            _ => None,
-        };
         self.analysis = Some(Box::new(Analysis {
             row_ptr: a.row_ptr.clone(),
             col_idx: a.col_idx.clone(),
             lower,
             symbolic,
             ordering,
-            supernodal,
         }));
         Ok(true)
     }
@@ -367,27 +347,6 @@ impl DirectSolver {
     fn try_factor(&mut self, a: &CsrMatrix, kind: FactorKind) -> bool {
         let Some(an) = &self.analysis else { return false };
         let _flush = FlushSubnormals::new();
-        if kind != FactorKind::Ldlt {
-            if let (SymbolicCholeskyRaw::Supernodal(sn), Some((permuted, plan))) = (an.symbolic.raw(), &an.supernodal) {
-                permuted.gather(&a.values, &mut self.lower_values);
-                if let FactorKind::ShiftedLlt { shift } = kind {
-                    for &d in permuted.diag.iter().flatten() {
-                        self.lower_values[d] += shift;
-                    }
-                }
-                let n = a.n;
-                let sym = SymbolicSparseColMatRef::new_checked(n, n, &permuted.col_ptr, None, &permuted.row_idx);
-                let mat = SparseColMatRef::new(sym, &self.lower_values);
-                // No pass over the factor for non-finite entries: a NaN or
-                // infinity in it reaches the residual probe's solution, and
-                // the probe fails on a non-finite residual (a scan of the 8.7M
-                // entries of a 40x40 linen stitch's factor was 2.7% of a
-                // refactorization's time).
-                let ok =
-                    tree_llt::factorize(sn, plan, mat, &mut self.factor_values, crate::parallel::threads()).is_ok();
-                return ok;
-            }
-        }
         for (dst, &src) in self.lower_values.iter_mut().zip(&an.lower.source) {
             *dst = a.values[src];
         }

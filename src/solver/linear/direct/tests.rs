@@ -274,3 +274,134 @@ fn cancelled_rows_leave_the_factor_and_come_back_when_coupled_again() {
     let exact = dense(&full).lu().solve(&DVector::from_vec(b)).unwrap();
     assert!(max_err(&x, &exact) < 1e-10);
 }
+
+/// A 7-point Laplacian on a `k^3` grid with seeded jitter on every entry,
+/// made diagonally dominant (SPD): big enough for a supernodal factor.
+fn jittered_grid(k: usize, seed: u64) -> CsrMatrix {
+    let id = |x: usize, y: usize, z: usize| ((x * k + y) * k + z) as u32;
+    let mut entries = Vec::new();
+    for x in 0..k {
+        for y in 0..k {
+            for z in 0..k {
+                entries.push((id(x, y, z), id(x, y, z)));
+                for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                    if x + dx < k && y + dy < k && z + dz < k {
+                        let j = id(x + dx, y + dy, z + dz);
+                        entries.extend([(id(x, y, z), j), (j, id(x, y, z))]);
+                    }
+                }
+            }
+        }
+    }
+    let mut a = CsrMatrix::from_pattern(k * k * k, entries);
+    let mut state = 0x2545_f491_4f6c_dd1du64 ^ seed;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for r in 0..a.n {
+        for p in a.row_ptr[r]..a.row_ptr[r + 1] {
+            let c = a.col_idx[p] as usize;
+            if c > r {
+                let v = -0.5 - next();
+                a.values[p] = v;
+                let q = a.find(c, r).expect("symmetric pattern");
+                a.values[q] = v;
+            }
+        }
+    }
+    for r in 0..a.n {
+        let off: f64 = (a.row_ptr[r]..a.row_ptr[r + 1])
+            .filter(|&p| a.col_idx[p] as usize != r)
+            .map(|p| a.values[p].abs())
+            .sum();
+        let d = a.find(r, r).expect("diagonal");
+        a.values[d] = off + 1e-3;
+    }
+    a
+}
+
+/// Two dense blocks joined by a few couplings: supernodes wide enough that
+/// one updates another over more than 512 columns.
+fn two_cliques(a: usize, b: usize) -> CsrMatrix {
+    let mut entries: Vec<(u32, u32)> = Vec::new();
+    for block in [0..a, a..a + b] {
+        for i in block.clone() {
+            for j in block.clone() {
+                entries.push((i as u32, j as u32));
+            }
+        }
+    }
+    for i in 0..a.min(b) / 10 {
+        let (r, c) = ((10 * i) as u32, (a + 10 * i) as u32);
+        entries.extend([(r, c), (c, r)]);
+    }
+    let mut m = CsrMatrix::from_pattern(a + b, entries);
+    for r in 0..m.n {
+        for p in m.row_ptr[r]..m.row_ptr[r + 1] {
+            let c = m.col_idx[p] as usize;
+            // Symmetric in (r, c): the solver reads both triangles.
+            let w = (((r + c) * 7 + (r * c) % 13) % 17) as f64 / 17.0;
+            m.values[p] = if r == c { (a + b) as f64 } else { -0.5 - w / 2.0 };
+        }
+    }
+    m
+}
+
+fn relative_residual(a: &CsrMatrix, x: &[f64], b: &[f64]) -> f64 {
+    let mut ax = vec![0.0; a.n];
+    a.mul_vec(x, &mut ax);
+    let r: Vec<f64> = ax.iter().zip(b).map(|(p, q)| p - q).collect();
+    (dot(&r, &r) / dot(b, b)).sqrt()
+}
+
+#[test]
+fn supernodal_factors_solve_to_a_small_residual_on_every_refactorization() {
+    for parallel in [false, true] {
+        let mut s = DirectSolver::new(DirectParams {
+            parallel,
+            ..DirectParams::default()
+        });
+        // New values on the same pattern, as in a Newton loop.
+        for seed in 0..3 {
+            let a = jittered_grid(12, seed);
+            let b: Vec<f64> = (0..a.n).map(|i| ((i * 31) % 17) as f64 - 8.0).collect();
+            let mut x = vec![0.0; a.n];
+            assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Llt);
+            let rel = relative_residual(&a, &x, &b);
+            assert!(rel < 1e-10, "parallel {parallel}, seed {seed}: {rel:e}");
+        }
+        assert_eq!(s.symbolic_count(), 1);
+        let a = two_cliques(1100, 700);
+        let b: Vec<f64> = (0..a.n).map(|i| 1.0 + (i % 5) as f64).collect();
+        let mut x = vec![0.0; a.n];
+        assert_eq!(s.solve(&a, &b, &mut x).unwrap(), FactorKind::Llt);
+        let rel = relative_residual(&a, &x, &b);
+        assert!(rel < 1e-10, "parallel {parallel}, two cliques: {rel:e}");
+    }
+}
+
+#[test]
+fn an_indefinite_matrix_is_not_passed_off_as_a_plain_factor() {
+    // Shifting every diagonal far down makes the matrix indefinite: plain
+    // LLT must fail, and whatever factor passes must still solve it.
+    let mut a = jittered_grid(10, 7);
+    for r in 0..a.n {
+        let d = a.find(r, r).expect("diagonal");
+        a.values[d] -= 20.0;
+    }
+    let b = vec![1.0; a.n];
+    let mut x = vec![0.0; a.n];
+    match DirectSolver::default().solve(&a, &b, &mut x) {
+        Ok(kind) => {
+            assert_ne!(kind, FactorKind::Llt);
+            if kind == FactorKind::Ldlt {
+                assert!(relative_residual(&a, &x, &b) < 1e-6);
+            }
+        }
+        Err(DirectError::NotFactorizable { .. }) => {}
+        Err(e) => panic!("{e}"),
+    }
+}
