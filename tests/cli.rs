@@ -171,10 +171,10 @@ fn bad_values_in_a_pattern_or_scene_exit_with_2_at_their_line_and_column() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(!out.exists() || std::fs::read_dir(&out).unwrap().count() == 0);
 
-    // A file that cannot be opened is not bad input: exit status 1.
+    // A file that cannot be opened is bad input too: exit status 2.
     let missing = dir.path().join("missing.knit");
     let run = knitsim(&["compile", missing.to_str().unwrap(), "-o", out_s]);
-    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+    assert_eq!(run.status.code(), Some(2), "{}", text(&run.stderr));
 }
 
 /// Two yarns 40 mm long crossing at their middles on one `Layer` contact,
@@ -253,13 +253,22 @@ fn the_separation_scene_key_splits_a_layer_contact_that_pulls() {
     let topology = dir.path().join("layers.json");
     save_json(&lifted_layer(), &topology).unwrap();
     let scene = dir.path().join("scene.json");
-    std::fs::write(&scene, r#"{"separation": {}}"#).unwrap();
+    // The layers start touching: thickness contact (on by default) would
+    // refuse the start, so both runs turn it off.
+    std::fs::write(&scene, r#"{"separation": {}, "contact": {"mode": "none"}}"#).unwrap();
+    let plain = dir.path().join("plain.json");
+    std::fs::write(&plain, r#"{"contact": {"mode": "none"}}"#).unwrap();
     let contacts_after = |scene: Option<&Path>| {
         let out = dir.path().join(if scene.is_some() { "with" } else { "without" });
-        let mut args = vec!["relax", topology.to_str().unwrap(), "-o", out.to_str().unwrap()];
-        if let Some(s) = scene {
-            args.extend(["--scene", s.to_str().unwrap()]);
-        }
+        let scene = scene.unwrap_or(&plain);
+        let args = vec![
+            "relax",
+            topology.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--scene",
+            scene.to_str().unwrap(),
+        ];
         let run = knitsim(&args);
         let stdout = text(&run.stdout);
         assert!(run.status.success(), "{stdout}\n{}", text(&run.stderr));

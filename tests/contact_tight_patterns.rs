@@ -103,7 +103,8 @@ fn tight_linen_stitch_without_contact_passes_through() {
     assert!(r.crossings > 0, "no crossing detected without contact");
 }
 
-const RADIUS: f64 = 0.75e-3;
+/// The model radius of the shipped stockinette's 0.75 mm yarn (0.6 of it).
+const RADIUS: f64 = 0.75e-3 * 0.6;
 const H: f64 = 2.0 * RADIUS;
 /// Starting clearance between the layers' centrelines (in `z`): a little
 /// more than one yarn diameter, so no barrier is active at the start.

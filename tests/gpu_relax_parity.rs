@@ -67,7 +67,9 @@ fn swatch() -> (Fabric, SimParams) {
 /// The hanging yarn in one large step.
 fn yarn_options() -> RelaxOptions {
     RelaxOptions {
-        tol: 1e-9,
+        // 1e-2 of the yarn's force scale (its bending force, 7e-6 N): free
+        // forces below 7e-8 N.
+        tol: 1e-2,
         max_steps: 100,
         newton_per_step: 100,
         // The settings this test was calibrated with: one large step.

@@ -184,7 +184,8 @@ mod tests {
     #[test]
     fn thinning_drops_only_shape_points_and_keeps_every_contact_where_it_was() {
         let full = compiled(&LINEN, 0.0);
-        let thin = compiled(&LINEN, 1.0);
+        // The gap is in model (effective) diameters, 0.6 of the stated ones.
+        let thin = compiled(&LINEN, 1.7);
         assert_consistent(&thin);
         assert_eq!(full.contacts.len(), thin.contacts.len());
         assert!(
