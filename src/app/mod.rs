@@ -4,6 +4,7 @@
 
 pub mod input;
 pub mod relax_job;
+pub mod study;
 
 pub use input::{load_fabric, InputError, Loaded};
 pub use relax_job::{run_relax, RelaxJob, RelaxOutcome};
