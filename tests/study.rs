@@ -31,7 +31,12 @@ fn a_small_study_writes_its_outputs_and_tightening_brings_the_state_closer() {
     assert_eq!(report.runs.len(), 2);
     let rms: Vec<f64> = report.runs.iter().map(|r| r.errors.unwrap().rms_radii).collect();
     assert!(rms.iter().all(|e| e.is_finite() && *e >= 0.0), "{rms:?}");
-    assert!(rms[1] <= rms[0], "tol 1e-3 is {} radii from the reference, 1e-2 {}", rms[1], rms[0]);
+    assert!(
+        rms[1] <= rms[0],
+        "tol 1e-3 is {} radii from the reference, 1e-2 {}",
+        rms[1],
+        rms[0]
+    );
 
     let out = dir.path().join("out");
     let csv = std::fs::read_to_string(out.join("study.csv")).unwrap();

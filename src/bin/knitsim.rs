@@ -218,7 +218,16 @@ fn run(cli: Cli) -> Result<()> {
             };
             config.scene = scene;
             config.compile = opts;
-            config.command_line = std::env::args().collect::<Vec<_>>().join(" ");
+            config.command_line = std::env::args()
+                .map(|a| {
+                    if a.contains(char::is_whitespace) {
+                        format!("'{a}'")
+                    } else {
+                        a
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(" ");
             if let Some(note) = machine_note {
                 config.machine = format!("{}; {note}", config.machine);
             }

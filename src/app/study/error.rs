@@ -68,7 +68,12 @@ pub enum CompareError {
 /// One yarn's centre line as `(u, x)` pairs sorted by `u`.
 fn centre_line(f: &Fabric, yarn: usize) -> Vec<(f64, Vec3)> {
     let mut pts: Vec<(f64, Vec3)> = (0..f.yarns[yarn].points.len())
-        .map(|point| (f.yarns[yarn].points[point].u, f.point_position(PointRef { yarn, point })))
+        .map(|point| {
+            (
+                f.yarns[yarn].points[point].u,
+                f.point_position(PointRef { yarn, point }),
+            )
+        })
         .collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     pts
@@ -288,7 +293,9 @@ mod tests {
         let last = wider.yarns[0].points[4].node;
         wider.nodes[last].x.x = 5.0 * MM;
         let run = Measured::new(wider, -1.0);
-        let e = run.errors(&reference, &MaterialSamples::of(&reference.fabric, 4)).unwrap();
+        let e = run
+            .errors(&reference, &MaterialSamples::of(&reference.fabric, 4))
+            .unwrap();
         assert!((e.width_pct - 25.0).abs() < 1e-9);
         assert!(e.height_pct.abs() < 1e-9 && e.depth_pct.abs() < 1e-9);
         assert!((e.energy_rel - 0.5).abs() < 1e-12);

@@ -135,7 +135,15 @@ pub fn run_study(
 
     // The reference: cpu-direct, EIL on, the tightest tolerance.
     let ref_tol = config.reference_tol();
-    let run = relax_once(&fabric, &params, SolverChoice::CpuDirect, true, ref_tol, config.ref_max_steps, cancel)?;
+    let run = relax_once(
+        &fabric,
+        &params,
+        SolverChoice::CpuDirect,
+        true,
+        ref_tol,
+        config.ref_max_steps,
+        cancel,
+    )?;
     let Some((ref_record, reference)) = run else {
         report.cancelled = true;
         report::write_all(&config.out_dir, &report, config)?;

@@ -60,9 +60,7 @@ const FONT: u32 = 2;
 
 /// Whole decades around the positive values (at least one decade).
 fn decades(values: impl Iterator<Item = f64>) -> (i32, i32) {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
-    });
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
     if !lo.is_finite() {
         return (-1, 0);
     }
@@ -132,7 +130,14 @@ pub fn render(series: &[Series], width: u32, height: u32) -> (RgbImage, PlotInfo
     let xlabel = "WALL TIME (S)";
     let xw = i64::from(text_width(xlabel, FONT));
     draw_text(&mut img, (x0 + x1) / 2 - xw / 2, y1 + 32, xlabel, FONT, INK);
-    draw_text(&mut img, 8, 10, "RMS ERROR (YARN RADII) AGAINST THE REFERENCE", FONT, INK);
+    draw_text(
+        &mut img,
+        8,
+        10,
+        "RMS ERROR (YARN RADII) AGAINST THE REFERENCE",
+        FONT,
+        INK,
+    );
 
     // Curves, markers and the legend.
     for (k, s) in series.iter().enumerate() {

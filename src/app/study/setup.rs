@@ -104,7 +104,12 @@ impl StudyConfig {
         if self.tols.is_empty() {
             return bad("the tolerance ladder is empty".into());
         }
-        if let Some(t) = self.tols.iter().chain(&self.ref_tol).find(|t| !(t.is_finite() && **t > 0.0)) {
+        if let Some(t) = self
+            .tols
+            .iter()
+            .chain(&self.ref_tol)
+            .find(|t| !(t.is_finite() && **t > 0.0))
+        {
             return bad(format!("tolerances must be positive numbers, got {t}"));
         }
         if self.solvers.is_empty() || self.eil.is_empty() {
