@@ -6,6 +6,7 @@ pub mod checks;
 pub mod input;
 pub mod relax_job;
 pub mod stability;
+pub mod study;
 pub mod summary;
 
 pub use checks::{check_state, Limits, NotConverged, RunStatus, StateChecks};

@@ -5,7 +5,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use knitsim::app::stability::{run_suite, CaseOutcome, SuiteOptions};
-use knitsim::app::{load_fabric, run_relax, InputError, RelaxJob, RunStatus};
+use knitsim::app::{load_fabric, run_relax, study, InputError, RelaxJob, RunStatus};
 use knitsim::io::{
     fit_preview, save_json, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
@@ -124,6 +124,48 @@ enum Command {
         #[arg(long)]
         quick: bool,
     },
+    /// Error against run time: relax at a ladder of tolerances with each
+    /// linear solver, EIL on and off, and compare every result with a
+    /// tightly relaxed reference (study.csv, study.md, study.png).
+    Study {
+        pattern: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Resize the pattern to N x N stitches.
+        #[arg(long, value_name = "N")]
+        size: Option<usize>,
+        /// The tolerance ladder (comma separated).
+        #[arg(long, value_delimiter = ',', default_values_t = study::DEFAULT_TOLS)]
+        tols: Vec<f64>,
+        /// Step cap of each ladder run.
+        #[arg(long, default_value_t = 100)]
+        max_steps: usize,
+        /// Reference tolerance (default: the smallest of --tols over 10).
+        #[arg(long)]
+        ref_tol: Option<f64>,
+        /// Step cap of the reference run.
+        #[arg(long, default_value_t = 400)]
+        ref_max_steps: usize,
+        /// Linear solvers to compare; one that cannot run here is skipped.
+        #[arg(long, value_enum, value_delimiter = ',', default_values_t = [SolverChoice::CpuDirect, SolverChoice::CpuCg, SolverChoice::Gpu])]
+        solvers: Vec<SolverChoice>,
+        /// EIL settings to compare.
+        #[arg(long, value_enum, default_value_t = EilSetting::Both)]
+        eil: EilSetting,
+        /// A scene file (JSON) overriding the embedded default parameters.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Appended to the machine description in study.md (e.g. its load).
+        #[arg(long)]
+        machine_note: Option<String>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EilSetting {
+    Both,
+    On,
+    Off,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -214,7 +256,82 @@ fn run(cli: Cli) -> Result<i32> {
             },
             &opts,
         ),
+        Command::Study {
+            pattern,
+            output,
+            size,
+            tols,
+            max_steps,
+            ref_tol,
+            ref_max_steps,
+            solvers,
+            eil,
+            scene,
+            machine_note,
+        } => {
+            let mut config = study::StudyConfig::new(pattern, output);
+            config.size = size;
+            config.tols = tols;
+            config.max_steps = max_steps;
+            config.ref_tol = ref_tol;
+            config.ref_max_steps = ref_max_steps;
+            config.solvers = solvers.into_iter().map(Into::into).collect();
+            config.eil = match eil {
+                EilSetting::Both => vec![true, false],
+                EilSetting::On => vec![true],
+                EilSetting::Off => vec![false],
+            };
+            config.scene = scene;
+            config.compile = opts;
+            config.command_line = std::env::args()
+                .map(|a| {
+                    if a.contains(char::is_whitespace) {
+                        format!("'{a}'")
+                    } else {
+                        a
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(" ");
+            if let Some(note) = machine_note {
+                config.machine = format!("{}; {note}", config.machine);
+            }
+            run_study_command(&config).map(|()| 0)
+        }
     }
+}
+
+fn run_study_command(config: &study::StudyConfig) -> Result<()> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)).context("installing the Ctrl-C handler")?;
+    let bar = ProgressBar::new(0);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} study [{elapsed_precise}] run {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    bar.set_message("relaxing the reference");
+    let report = study::run_study(config, Some(&cancel), &mut |done, total, label| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(format!("done: {label}"));
+    })?;
+    bar.finish_and_clear();
+    for s in &report.skipped_solvers {
+        println!("skipped {s}");
+    }
+    if let Some(r) = &report.reference {
+        let state = if r.converged { "converged" } else { "NOT converged" };
+        println!("reference {state}: residual {:.3e} after {} steps", r.residual, r.steps);
+    }
+    let stopped = if report.cancelled { " (stopped by user)" } else { "" };
+    println!(
+        "{} of {} runs{stopped}; outputs in {}",
+        report.runs.len(),
+        report.planned,
+        config.out_dir.display()
+    );
+    Ok(())
 }
 
 fn load(path: &Path, opts: &CompileOptions) -> Result<knitsim::app::Loaded> {
