@@ -61,7 +61,7 @@ fn markdown(w: &mut dyn Write, opts: &SuiteOptions, rows: &[CaseRow]) -> std::io
         w,
         "Command: `knitsim stability{}`. Machine: {}.\n",
         if opts.quick { " --quick" } else { "" },
-        machine()
+        crate::app::study::machine_description()
     )?;
     writeln!(
         w,
@@ -134,19 +134,4 @@ fn markdown(w: &mut dyn Write, opts: &SuiteOptions, rows: &[CaseRow]) -> std::io
             .count(),
         total
     )
-}
-
-/// The CPU model and core count, where the system says.
-fn machine() -> String {
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    let model = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
-    format!("{model}, {cores} cores available, {}", std::env::consts::OS)
 }
