@@ -18,7 +18,7 @@ fn a_small_study_writes_its_outputs_and_tightening_brings_the_state_closer() {
     let pattern = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("patterns/stockinette.knit");
     let mut config = StudyConfig::new(pattern, dir.path().join("out"));
     config.size = Some(4);
-    config.tols = vec![300.0, 30.0];
+    config.tols = vec![300.0, 3.0];
     config.solvers = vec![SolverChoice::CpuDirect];
     config.eil = vec![true];
     config.command_line = "knitsim study patterns/stockinette.knit --size 4".into();
@@ -33,7 +33,7 @@ fn a_small_study_writes_its_outputs_and_tightening_brings_the_state_closer() {
     assert!(rms.iter().all(|e| e.is_finite() && *e >= 0.0), "{rms:?}");
     assert!(
         rms[1] <= rms[0],
-        "tol 30 is {} radii from the reference, 300 {}",
+        "tol 3 is {} radii from the reference, 300 {}",
         rms[1],
         rms[0]
     );
@@ -44,7 +44,7 @@ fn a_small_study_writes_its_outputs_and_tightening_brings_the_state_closer() {
     assert!(csv.lines().nth(1).unwrap().starts_with("reference,"));
     let md = std::fs::read_to_string(out.join("study.md")).unwrap();
     assert!(md.contains("knitsim study patterns/stockinette.knit --size 4"));
-    assert!(md.contains("| cpu-direct | on | 1e-2 |"), "{md}");
+    assert!(md.contains("| cpu-direct | on | "), "{md}");
     let png = image::open(out.join("study.png")).unwrap();
     assert_eq!((png.width(), png.height()), knitsim::app::study::report::PLOT_SIZE);
 }
