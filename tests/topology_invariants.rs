@@ -67,13 +67,13 @@ fn every_structure_is_well_formed() {
 fn stockinette_rest_length_is_loops_times_stitch_length_plus_turns() {
     // 6 x 4 stockinette: 30 loops (24 + 6 cast-on) of Munden length l each,
     // plus 4 edge turns (cast-on->1, 1->2, 2->3, 3->4) and the two ends.
-    // With the default gauge and 1 mm yarn, l = sqrt(19 w h) = 16.97 mm
-    // (above the jam floor 16.6 d = 16.6 mm).
+    // With the default gauge and a 1 mm (stated) yarn, 0.6 mm in the model,
+    // l = 0.72 sqrt(19 w h) = 12.22 mm (above the jam floor 12 d = 7.2 mm).
     let p = pattern(&["k"], None, Construction::Flat, 6, 4);
     let opts = CompileOptions::default();
     let f = compile(&p, &opts).expect("compile");
-    let l = stitch_length(0.1 / 22.0, 0.1 / 30.0, 1.0e-3, 1.0, &opts);
-    assert!((l - 16.967e-3).abs() < 1e-5);
+    let l = stitch_length(0.1 / 22.0, 0.1 / 30.0, 0.6e-3, 1.0, &opts);
+    assert!((l - 0.72 * 16.967e-3).abs() < 1e-5);
     let total: f64 = f.yarns.iter().map(|y| y.rest_length).sum();
     let loops = 30.0 * l;
     // Each turn climbs one row (h = 3.33 mm at gauge) plus short steps out:
