@@ -38,19 +38,7 @@ pub const SHAPE_GAP_VAR: &str = "KNITSIM_BENCH_SHAPE_GAP";
 pub fn compiled(name: &str, n: usize) -> anyhow::Result<knitsim::topology::Fabric> {
     let path = format!("{}/patterns/{name}.knit", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path)?;
-    let text: String = text
-        .lines()
-        .map(|l| {
-            if l.starts_with("width:") {
-                format!("width: {n}")
-            } else if l.starts_with("height:") {
-                format!("height: {n}")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
+    let text = knitsim::app::study::resize_text(&text, n);
     let parsed = parse_str(&text, &path)?;
     let shape_gap = match std::env::var(SHAPE_GAP_VAR) {
         Ok(g) => g.parse()?,

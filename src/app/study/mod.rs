@@ -26,7 +26,7 @@ pub mod report;
 mod setup;
 
 pub use error::{CompareError, Errors, MaterialSamples, Measured};
-pub use setup::{load_resized, machine_description, StudyConfig, StudyError, DEFAULT_TOLS};
+pub use setup::{load_resized, machine_description, resize_text, StudyConfig, StudyError, DEFAULT_TOLS};
 
 use crate::sim::{relax, RelaxOptions, SimError, SimParams, Simulation};
 use crate::solver::linear::{select, AutoParams, LinearSolver, SolverChoice};
