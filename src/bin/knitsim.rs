@@ -96,6 +96,11 @@ enum Command {
         /// releases between steps; docs/RELAX.md, "Keeping EIL points").
         #[arg(long)]
         keep_eil: bool,
+        /// Let yarn slide through its contacts at the Coulomb limit while
+        /// relaxing (default: contacts stick; docs/RELAX.md, "Sticking
+        /// contacts").
+        #[arg(long)]
+        sliding: bool,
         /// Stopping tolerance: the largest free force over the force scale
         /// (a loop's bending force kb / l^2, or its weight with gravity on;
         /// docs/RELAX.md, "Stopping test").
@@ -240,6 +245,7 @@ fn run(cli: Cli) -> Result<i32> {
             scene,
             no_eil,
             keep_eil,
+            sliding,
             tol,
             max_steps,
             contact,
@@ -252,6 +258,7 @@ fn run(cli: Cli) -> Result<i32> {
                 tol,
                 max_steps,
                 keep_eil,
+                sliding,
                 ..RelaxOptions::default()
             },
             &opts,

@@ -3,56 +3,44 @@
 //!
 //! A sequence of implicit steps with zero predicted velocity: each step is a
 //! proximal Newton solve `min V(q) + 1/(2h^2) |q - q_k|_M^2`, which keeps the
-//! early iterations well-posed (the mass term regularises rigid modes and
-//! the wildly unbalanced compiled geometry) and becomes plain Newton on `V`
-//! as `h` grows. Converged when the static residual, the largest free
-//! force over the scene's force scale ([`ForceScale`]: a loop's bending
-//! force, or its weight with gravity on), is below `tol`.
+//! first iterations well-posed (the mass term regularises rigid modes and
+//! the unbalanced compiled geometry) and becomes plain Newton on `V` as `h`
+//! grows: `h` doubles after every step that converged, up to `h_max`.
+//! Converged when the static residual, the largest free force over the
+//! scene's force scale ([`ForceScale`]: a loop's bending force, or its
+//! weight with gravity on), is below `tol`.
 //!
-//! The schedule is pseudo-transient continuation: `h` starts small, where
-//! the proximal term dominates the compiled geometry's large unbalanced
-//! forces and every step converges in a few Newton iterations, and doubles
-//! after each converged step up to `h_max`, where the step is Newton on `V`
-//! alone. Starting at a large `h` instead stalls: the free patch's
-//! near-null modes (rigid motions, yarn sliding) let full Newton steps
-//! rotate whole loops, and the stiff stretch terms make every such step
-//! only linearly convergent (measured on a 4x4 stockinette: 60 iterations
-//! to reach what 20 do with the schedule).
+//! Three choices make the answer a converged one (docs/RELAX.md, "Sticking
+//! contacts", "Exact Hessian", "What the default tolerance means"):
 //!
-//! In practice the doubling rarely happens on full-size patterns: their
-//! steps end at the iteration cap (accepted because the energy fell, not
-//! converged), so `h` stays at `h_initial` until the step that passes the
-//! equilibrium test. At 1e-3 s the proximal term is a light regulariser
-//! (`rho / h^2` over a 1 mm segment is about 0.5 N/m, against about
-//! 100 N/m of bending), and each step is close to Newton on `V` with the
-//! friction anchors and the EIL assignment refreshed in between. Other
-//! starting steps change which equilibrium a stockinette lands in, not how
-//! fast the float patterns get there (docs/RELAX.md,
-//! "Pseudo-transient continuation").
+//! - **Contacts stick** (`Schedule::stick`): the friction springs have no
+//!   Coulomb cap while relaxing, so the yarn keeps the loop lengths the
+//!   compiler gave it and the loops only change shape. With sliding at the
+//!   Coulomb limit (`RelaxOptions::sliding`) the relaxation is a slow flow
+//!   of yarn through its contacts whose end depends on the path: tighter
+//!   tolerances kept drawing the 16 x 16 stockinette in, from 71.5 mm wide
+//!   at 100 force scales to 54.1 mm at 0.1, with its EIL count growing to
+//!   745 of 2048 points.
+//! - **Newton with the exact Hessian** (`NewtonParams::exact_hessian`),
+//!   falling back to the projected one only for an iteration whose exact
+//!   system has no descent direction: the edge roll of a stockinette is a
+//!   soft mode along which projected Newton converges linearly.
+//! - **Steps solved, not capped**: `newton_per_step` is a safety bound (a
+//!   step that reaches it with a lower energy is accepted and the next one
+//!   starts from there), and the default tolerance, 0.01 force scales, is
+//!   where a hundred times tighter no longer moves the swatch (1%
+//!   in width and height, a tenth of a millimetre out of plane).
 //!
 //! A step also ends early at the first iterate where a real segment has
 //! closed to `assign.close_fraction` (1e-5) of a rest segment
-//! (`sim::problem::tripwire`): the next re-assignment makes that point EIL, where
-//! iterating on would only stiffen the closed segment's stretch without
-//! bound (docs/RELAX.md, "Closed segments").
-//!
-//! The equilibrium test also runs inside each step, at every Newton
-//! iterate (`NewtonParams::max_force_tol`). The steps of the float patterns
-//! end at their iteration cap and their residual swings within a step, so
-//! testing only at step ends missed iterates that were already in
-//! equilibrium. Measured (`bench_relax --case`): linen stitch 8x8 160 -> 57
-//! Newton iterations, 20x20 520 -> 196; stockinette 8x8 80 -> 53, 12x12
-//! 140 -> 54, 40x40 400 -> 34; linen 12x12, 40x40 and stockinette 20x20
-//! unchanged (100, 120, 80).
+//! (`sim::problem::tripwire`): the next re-assignment makes that point EIL,
+//! where iterating on would only stiffen the closed segment's stretch
+//! without bound (docs/RELAX.md, "Closed segments"). The equilibrium test
+//! also runs at every Newton iterate (`NewtonParams::max_force_tol`), so a
+//! step that passes through equilibrium ends there.
 //!
 //! `RelaxOptions::keep_eil` (opt-in) stops EIL points from being released
-//! while relaxing: every release is a new discretization whose first
-//! iterate is out of equilibrium, and on the 80x80 linen stitch the
-//! releases came in waves that took half of the seeds to 770 to 830 Newton
-//! iterations, where five seeds without releases took 166 to 252. It is
-//! not the default because on the 80x80 stockinette it was no better (two
-//! seeds: 582 and 550 iterations against 200 and 467; docs/RELAX.md,
-//! "Keeping EIL points").
+//! while relaxing (docs/RELAX.md, "Keeping EIL points").
 
 use super::force_scale::ForceScale;
 use super::schedule::Schedule;
@@ -66,8 +54,8 @@ pub struct RelaxOptions {
     /// scale ([`ForceScale`], docs/RELAX.md, "Stopping test").
     pub tol: f64,
     pub max_steps: usize,
-    /// Newton iterations per proximal step; a step that stops at the cap
-    /// with lower energy is still accepted.
+    /// Safety bound on the Newton iterations of one proximal step; a step
+    /// that stops there with lower energy is still accepted.
     pub newton_per_step: usize,
     /// First pseudo time step (s).
     pub h_initial: f64,
@@ -81,18 +69,23 @@ pub struct RelaxOptions {
     /// the simulation's own schedule keeps releasing). Opt-in; see the
     /// module docs.
     pub keep_eil: bool,
+    /// Let yarn slide through its contacts at the Coulomb limit while
+    /// relaxing. Off by default: contacts stick (`Schedule::stick`), see
+    /// the module docs.
+    pub sliding: bool,
 }
 
 impl Default for RelaxOptions {
     fn default() -> Self {
         RelaxOptions {
-            tol: 100.0,
+            tol: 0.01,
             max_steps: 100,
-            newton_per_step: 20,
-            h_initial: 1e-3,
+            newton_per_step: 200,
+            h_initial: 0.1,
             h_max: 1e2,
             newton_rel_tol: 1e-6,
             keep_eil: false,
+            sliding: false,
         }
     }
 }
@@ -181,5 +174,7 @@ pub fn schedule(sim: &Simulation, opts: &RelaxOptions) -> Schedule {
     s.h_max = opts.h_max;
     // No gap is ever wide enough: `assign_after` keeps every EIL point.
     s.keep_eil = opts.keep_eil;
+    s.stick = !opts.sliding;
+    s.newton.exact_hessian = true;
     s
 }

@@ -22,6 +22,10 @@ pub struct Schedule {
     /// Keep every EIL point EIL: no EIL-to-EoL release between steps
     /// (`RelaxOptions::keep_eil`).
     pub keep_eil: bool,
+    /// Contacts stick: the friction springs have no Coulomb cap, so their
+    /// anchors never move and the yarn does not slide through its contacts
+    /// beyond the springs' elastic give (`RelaxOptions::sliding`).
+    pub stick: bool,
 }
 
 impl Schedule {
@@ -33,6 +37,7 @@ impl Schedule {
             h_min: h * 1e-4,
             h_max: h,
             keep_eil: false,
+            stick: false,
         }
     }
 

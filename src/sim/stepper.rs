@@ -309,6 +309,9 @@ impl Simulation {
             &self.params,
             &st.rest.rest_seg,
         );
+        if schedule.stick {
+            st.friction_limits.fill(f64::INFINITY);
+        }
         let eil_count = st.assignment.eil_count();
         let q0 = st.q.clone();
         let mut retries = 0;

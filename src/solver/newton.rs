@@ -29,6 +29,15 @@
 //!   full steps, so the final iterations are undamped and converge
 //!   quadratically. The decrement test only applies to undamped steps, since
 //!   damping shrinks `dq` and would fake convergence.
+//! - **Exact Hessian on request** (`NewtonParams::exact_hessian`).
+//!   Per-stencil PSD projection makes every direction a descent direction
+//!   but changes the curvature of the non-convex terms (bending, contact),
+//!   so near a minimum the iteration converges only linearly along the
+//!   soft modes (the roll of a stockinette edge). With the exact Hessian
+//!   the final iterations are true Newton steps; an iteration whose exact
+//!   system gave no descent direction (an indefinite Hessian far from the
+//!   minimum) is followed by one projected iteration, and the damping
+//!   grows as above until the steps are full again.
 //! - **Optional box bounds** ([`Problem::bounds`], `bounds.rs`): trial
 //!   points are clamped into a per-iteration box and a coordinate pressed
 //!   against its bound is held, so one coordinate at a wall does not cut
@@ -86,6 +95,10 @@ pub trait Problem {
     fn must_rebuild(&self) -> bool {
         false
     }
+    /// Whether [`Problem::gradient_hessian`] projects each stencil's Hessian
+    /// to the nearest PSD matrix (`true`, the default) or assembles the
+    /// true Hessian. A problem without projection ignores this.
+    fn set_projection(&mut self, _project: bool) {}
     /// Block-Jacobi partition for CG (starts, closed by `n`); empty = scalar Jacobi.
     fn blocks(&self) -> Vec<usize> {
         Vec::new()
@@ -120,6 +133,10 @@ pub struct NewtonParams {
     pub damping_max: f64,
     /// Damping is multiplied by this after a poor step and divided after a full one.
     pub damping_factor: f64,
+    /// Assemble the true Hessian ([`Problem::set_projection`]) and fall
+    /// back to the projected one for the next iteration only when it gave
+    /// no descent direction (see the module docs).
+    pub exact_hessian: bool,
     pub line_search: LineSearchParams,
 }
 
@@ -135,6 +152,7 @@ impl Default for NewtonParams {
             damping_min: 1e-6,
             damping_max: 1e6,
             damping_factor: 10.0,
+            exact_hessian: false,
             line_search: LineSearchParams::default(),
         }
     }
@@ -179,6 +197,9 @@ pub struct IterStats {
     pub line_search_trials: usize,
     /// Unknowns held at a bound this iteration.
     pub held: usize,
+    /// This iteration fell back to the projected Hessian
+    /// (`NewtonParams::exact_hessian`).
+    pub projected: bool,
     /// Seconds of this iteration in the gradient and Hessian assembly.
     pub assembly_s: f64,
     /// Seconds in the linear solve: the factorization (with a symbolic

@@ -15,7 +15,7 @@ use crate::topology::{compile, CompileOptions, Fabric, TopologyError};
 use std::path::{Path, PathBuf};
 
 /// The default tolerance ladder, loosest first.
-pub const DEFAULT_TOLS: [f64; 4] = [300.0, 100.0, 30.0, 10.0];
+pub const DEFAULT_TOLS: [f64; 4] = [10.0, 1.0, 0.1, 0.01];
 
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {

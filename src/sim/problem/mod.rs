@@ -42,6 +42,8 @@ pub struct EolProblem {
     pub slide_stops: SlideStops,
     /// Segments whose closing ends this solve (empty: none).
     pub tripwire: Tripwire,
+    /// Project each stencil's Hessian to PSD ([`Problem::set_projection`]).
+    project: bool,
     pattern: CsrMatrix,
 }
 
@@ -67,6 +69,7 @@ impl EolProblem {
             contact: None,
             slide_stops: SlideStops::default(),
             tripwire: Tripwire::default(),
+            project: true,
             pattern,
         })
     }
@@ -142,7 +145,10 @@ impl Problem for EolProblem {
         total_energy(&self.sets, q)
     }
     fn gradient_hessian(&mut self, q: &[f64], g: &mut [f64], h: &mut CsrMatrix) -> Result<(), AssemblyError> {
-        assemble(&self.sets, q, &self.free, g, h, true)
+        assemble(&self.sets, q, &self.free, g, h, self.project)
+    }
+    fn set_projection(&mut self, project: bool) {
+        self.project = project;
     }
     fn hessian_pattern(&self) -> CsrMatrix {
         self.pattern.clone()

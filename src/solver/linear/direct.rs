@@ -64,6 +64,10 @@ pub struct DirectParams {
     pub shift_growth: f64,
     /// Try an unshifted LDLT when every LLT failed.
     pub ldlt_last_resort: bool,
+    /// Plain LLT only: a matrix that is not positive definite is an
+    /// error, with no shifted or LDLT retry (Newton's exact-Hessian
+    /// iterations, `LinearSolver::set_definite_only`).
+    pub definite_only: bool,
     /// A solve whose `|A x - b| / |b|` exceeds this counts as a failed factorization.
     pub max_rel_residual: f64,
     /// Let faer factorize and solve on its rayon pool. Off by default:
@@ -87,6 +91,7 @@ impl Default for DirectParams {
             initial_shift: 1e-10,
             shift_growth: 100.0,
             ldlt_last_resort: true,
+            definite_only: false,
             max_rel_residual: 1e-6,
             parallel: false,
             ordering: None,
@@ -304,12 +309,17 @@ impl DirectSolver {
             .fold(0.0f64, |m, d| m.max(d.abs()))
             .max(f64::MIN_POSITIVE);
         let mut attempts: Vec<FactorKind> = vec![FactorKind::Llt];
+        let retries = if self.params.definite_only {
+            0
+        } else {
+            self.params.shift_tries
+        };
         let mut shift = self.params.initial_shift * max_diag;
-        for _ in 0..self.params.shift_tries {
+        for _ in 0..retries {
             attempts.push(FactorKind::ShiftedLlt { shift });
             shift *= self.params.shift_growth;
         }
-        if self.params.ldlt_last_resort {
+        if self.params.ldlt_last_resort && !self.params.definite_only {
             attempts.push(FactorKind::Ldlt);
         }
         let concurrent = crate::parallel::threads() > 1;

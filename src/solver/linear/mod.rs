@@ -66,6 +66,18 @@ impl LinearSolver {
         }
     }
 
+    /// Whether the next solves must find `a` positive definite: the direct
+    /// solver then factors with plain LLT only and fails otherwise, and a
+    /// CG run that meets non-positive curvature reports itself not
+    /// converged (as it always does). Newton's exact-Hessian iterations
+    /// use this to fall back to the projected Hessian the same way with
+    /// every solver.
+    pub fn set_definite_only(&mut self, on: bool) {
+        if let LinearSolver::Direct(s) = self {
+            s.params.definite_only = on;
+        }
+    }
+
     /// Solves `a x = b`. `x` is the CG starting guess and is overwritten.
     /// `blocks` is the block-Jacobi partition (starts, closed by `a.n`); an
     /// empty slice means scalar Jacobi. The direct solver ignores it.

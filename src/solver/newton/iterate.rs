@@ -71,6 +71,7 @@ pub fn minimize<P: Problem + ?Sized>(
             break;
         }
         let assembly_start = Instant::now();
+        problem.set_projection(!params.exact_hessian);
         problem.gradient_hessian(q, &mut w.g, &mut h)?;
         let assembly_s = assembly_start.elapsed().as_secs_f64();
         for (gi, _) in w.g.iter_mut().zip(&free).filter(|(_, &f)| !f) {
@@ -110,6 +111,7 @@ pub fn minimize<P: Problem + ?Sized>(
             linear_iterations: 0,
             line_search_trials: 0,
             held: w.bounds.held.len(),
+            projected: false,
             assembly_s,
             solve_s: 0.0,
             line_search_s: 0.0,
@@ -118,7 +120,9 @@ pub fn minimize<P: Problem + ?Sized>(
             Some(NewtonStatus::Converged(Converged::Residual))
         } else {
             add_damping(&mut h, &diag_slots, damping);
-            let outcome = step(
+            let exact = params.exact_hessian;
+            solver.set_definite_only(exact);
+            let mut outcome = step(
                 problem,
                 q,
                 solver,
@@ -129,7 +133,36 @@ pub fn minimize<P: Problem + ?Sized>(
                 &mut w,
                 &mut energy,
                 &mut stats,
+                !exact,
             );
+            if exact && outcome.is_none() && stats.direction == Direction::None {
+                // The true Hessian gave no descent step: this iteration
+                // again with the projected one (module docs).
+                let reassembly = Instant::now();
+                problem.set_projection(true);
+                problem.gradient_hessian(q, &mut w.g, &mut h)?;
+                for (gi, _) in w.g.iter_mut().zip(&free).filter(|(_, &f)| !f) {
+                    *gi = 0.0;
+                }
+                w.bounds.hold(q, &free, &mut w.g, &mut h);
+                add_damping(&mut h, &diag_slots, damping);
+                stats.assembly_s += reassembly.elapsed().as_secs_f64();
+                stats.projected = true;
+                solver.set_definite_only(false);
+                outcome = step(
+                    problem,
+                    q,
+                    solver,
+                    params,
+                    &blocks,
+                    &free,
+                    &h,
+                    &mut w,
+                    &mut energy,
+                    &mut stats,
+                    true,
+                );
+            }
             damping = next_damping(damping, &stats, params);
             match outcome {
                 None if stats.step > 0.0 && problem.must_rediscretize(q) => Some(NewtonStatus::Rediscretize),
@@ -205,6 +238,7 @@ fn step<P: Problem + ?Sized>(
     w: &mut Work,
     energy: &mut f64,
     stats: &mut IterStats,
+    gradient_fallback: bool,
 ) -> Option<NewtonStatus> {
     for (r, gi) in w.rhs.iter_mut().zip(&w.g) {
         *r = -gi;
@@ -222,8 +256,9 @@ fn step<P: Problem + ?Sized>(
     let gnorm = stats.residual;
     let slope = dot(&w.g, &w.dq);
     let dq_norm = dot(&w.dq, &w.dq).sqrt();
+    let solved_definite = solved.as_ref().is_ok_and(|r| gradient_fallback || r.converged);
     let is_descent =
-        solved.is_ok() && slope.is_finite() && -slope >= params.descent_cos * gnorm * dq_norm && slope < 0.0;
+        solved_definite && slope.is_finite() && -slope >= params.descent_cos * gnorm * dq_norm && slope < 0.0;
     if is_descent {
         let decrement = 0.5 * curvature(h, &w.dq, &mut w.hv);
         stats.decrement = if decrement.is_finite() && decrement > 0.0 {
@@ -244,6 +279,11 @@ fn step<P: Problem + ?Sized>(
             LineOutcome::Blocked => return Some(NewtonStatus::Blocked),
             LineOutcome::Rejected => {}
         }
+    }
+    if !gradient_fallback {
+        // The caller retries with another Hessian.
+        stats.direction = Direction::None;
+        return None;
     }
     // Steepest descent, scaled to the minimiser of the quadratic model along -g.
     let ghg = curvature(h, &w.g, &mut w.hv);
