@@ -19,6 +19,8 @@
 //! - [`obj`]: smooth tube meshes with per-yarn materials, for renderers.
 //! - [`png`]: a shaded orthographic preview of the RS face, for people.
 //! - [`json`]: the full `Fabric`, to save and resume a state.
+//! - [`vtu`]: VTK XML frames and `.pvd` collections of a dynamic run
+//!   (ParaView's animation), and triangle meshes of obstacles.
 
 pub mod atomic;
 mod error;
@@ -32,11 +34,13 @@ pub mod smooth;
 pub mod tube;
 mod validate;
 pub mod vtk;
+pub mod vtu;
 
 pub use atomic::write_atomic;
 pub use error::{ExportError, IoError};
 pub use json::{load_json, save_json};
 pub use obj::{write_obj, ObjOptions};
+pub use vtu::{write_pvd, write_triangles_vtu, write_vtu, PvdEntry};
 pub use png::{fit_preview, render_preview, write_png, Background, PngOptions, PngScale};
 pub use smooth::SmoothOptions;
 pub use tube::{TubeMesh, TubeOptions};

@@ -32,7 +32,9 @@ pub mod crossing_angles;
 pub mod eil_constraints;
 pub mod end_stops;
 pub mod friction_springs;
+pub mod mass_damping;
 pub mod obstacle_contact;
+pub mod obstacle_friction;
 pub mod parallel_yarns;
 pub mod rod_segments;
 pub mod segment_weight;
@@ -79,6 +81,8 @@ pub const FAMILIES: &[Family] = &[
     parallel_yarns::build,   // parallel-yarn contact
     end_stops::build,        // secured yarn ends
     obstacle_contact::build, // scene obstacles
+    obstacle_friction::build, // friction against obstacles (dynamics)
+    mass_damping::build,     // mass-proportional damping (dynamics)
 ];
 
 /// All stencil sets of a step. Terms that are off, or have no instance in
