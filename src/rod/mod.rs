@@ -55,6 +55,7 @@ pub mod params;
 pub mod pin;
 pub mod shear;
 pub mod stretch;
+pub mod trimesh;
 pub mod wrapping;
 
 #[cfg(test)]

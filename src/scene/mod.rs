@@ -87,7 +87,12 @@ fn parse_error(path: &str, e: &serde_json::Error) -> SceneError {
 pub fn parse_params(bytes: &[u8], path: &Path) -> Result<SimParams, SceneError> {
     let p = path.display().to_string();
     let bytes = without_bom(bytes);
-    let params: SimParams = serde_json::from_slice(bytes).map_err(|e| parse_error(&p, &e))?;
+    // A mesh obstacle's OBJ path is relative to the scene file.
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    shape_json::BASE_DIR.with(|b| *b.borrow_mut() = dir);
+    let parsed = serde_json::from_slice::<SimParams>(bytes);
+    shape_json::BASE_DIR.with(|b| b.borrow_mut().clear());
+    let params: SimParams = parsed.map_err(|e| parse_error(&p, &e))?;
     let a = &params.assign;
     // A point stopped, or a segment tripped, outside the safety distance
     // would not be handed to EIL by the next re-assignment: a stop would

@@ -77,8 +77,9 @@ impl Triangles {
 }
 
 /// Every obstacle as triangles: spheres as latitude-longitude meshes,
-/// boxes as their six faces, planes as a square of `4 size` around the
-/// point of the plane nearest `centre` (a plane has no edge to draw).
+/// boxes as their six faces, meshes as they are; the unbounded ones around
+/// the point nearest `centre`: planes as a square of side `4 size`,
+/// cylinders as a tube of that length.
 pub fn obstacle_triangles(shapes: &[Shape], centre: [f64; 3], size: f64) -> Triangles {
     let mut t = Triangles::default();
     for (id, s) in shapes.iter().enumerate() {
@@ -125,6 +126,34 @@ pub fn obstacle_triangles(shapes: &[Shape], centre: [f64; 3], size: f64) -> Tria
                     [q.x, q.y, q.z]
                 };
                 t.push_quad(id, [v(-1.0, -1.0), v(1.0, -1.0), v(1.0, 1.0), v(-1.0, 1.0)]);
+            }
+            Shape::Cylinder { point, axis, radius } => {
+                let a = nalgebra::Vector3::from(*axis).normalize();
+                let p = nalgebra::Vector3::from(*point);
+                let c = nalgebra::Vector3::from(centre);
+                let mid = p + a * a.dot(&(c - p));
+                let any = if a.x.abs() < 0.9 {
+                    nalgebra::Vector3::x()
+                } else {
+                    nalgebra::Vector3::y()
+                };
+                let e1 = (any - a * a.dot(&any)).normalize();
+                let e2 = a.cross(&e1);
+                let n = 32usize;
+                let at = |i: usize, s: f64| {
+                    let ph = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+                    let q = mid + (e1 * ph.cos() + e2 * ph.sin()) * *radius + a * (2.0 * size * s);
+                    [q.x, q.y, q.z]
+                };
+                for i in 0..n {
+                    t.push_quad(id, [at(i, -1.0), at(i + 1, -1.0), at(i + 1, 1.0), at(i, 1.0)]);
+                }
+            }
+            Shape::Mesh { mesh, .. } => {
+                let b = t.points.len();
+                t.points.extend(mesh.vertices.iter().map(|v| [v.x, v.y, v.z]));
+                t.triangles.extend(mesh.triangles.iter().map(|tri| tri.map(|i| b + i)));
+                t.ids.extend(std::iter::repeat_n(id, mesh.triangles.len()));
             }
         }
     }
