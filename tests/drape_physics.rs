@@ -12,81 +12,20 @@
 //! prints the measured figures.
 
 mod contact_support;
+mod drape_support;
 mod fabric_frames;
 
-use contact_support::{common, crossing_pairs};
+use contact_support::crossing_pairs;
+use drape_support::woven_patch;
 use fabric_frames::{node_positions, Segments};
 use knitsim::scene::Shape;
 use knitsim::sim::discretization::transfer::transfer;
 use knitsim::sim::dynamics::{centre_of_mass, dynamic_params, pin_nodes, run_dynamics, schedule};
 use knitsim::sim::{ContactParams, DynamicsParams, SimParams, Simulation, Terms};
 use knitsim::solver::linear::LinearSolver;
-use knitsim::topology::{Contact, ContactKind, Fabric, Node, PointRef, Vec3};
+use knitsim::topology::{Fabric, Vec3};
 
 const G: f64 = 9.81;
-
-/// Crossing pitch of the woven patch (m).
-const PITCH: f64 = 2e-3;
-/// Yarns per direction.
-const N: usize = 5;
-
-/// A woven patch in the plane `z = 0`: `N` yarns along x, whose material
-/// slides through the crossings (free `u`), over `N` yarns along y with
-/// fixed `u`, joined at `N x N` persistent EoL contacts; 1 mm tails past
-/// the outer crossings. Yarn radius 0.25 mm.
-fn woven_patch() -> Fabric {
-    let mut f = common::empty_fabric(0.25e-3);
-    let at = |i: usize| (i as f64 - (N - 1) as f64 / 2.0) * PITCH;
-    let tail = (N - 1) as f64 / 2.0 * PITCH + 1e-3;
-    for i in 0..N {
-        for j in 0..N {
-            f.nodes.push(Node {
-                x: Vec3::new(at(i), at(j), 0.0),
-                pinned: false,
-            });
-        }
-    }
-    let node = |i: usize, j: usize| i * N + j;
-    let mut along_x = Vec::new();
-    for j in 0..N {
-        let mut pts = vec![Vec3::new(-tail, at(j), 0.0)];
-        let mut on = vec![None];
-        for i in 0..N {
-            pts.push(Vec3::new(at(i), at(j), 0.0));
-            on.push(Some(node(i, j)));
-        }
-        pts.push(Vec3::new(tail, at(j), 0.0));
-        on.push(None);
-        along_x.push(common::add_yarn(&mut f, &pts, &on));
-    }
-    for i in 0..N {
-        let mut pts = vec![Vec3::new(at(i), -tail, 0.0)];
-        let mut on = vec![None];
-        for j in 0..N {
-            pts.push(Vec3::new(at(i), at(j), 0.0));
-            on.push(Some(node(i, j)));
-        }
-        pts.push(Vec3::new(at(i), tail, 0.0));
-        on.push(None);
-        let yarn = common::add_yarn(&mut f, &pts, &on);
-        for p in &mut f.yarns[yarn].points {
-            p.fixed_u = true;
-        }
-        for (j, &front) in along_x.iter().enumerate() {
-            f.contacts.push(Contact {
-                node: node(i, j),
-                front: PointRef {
-                    yarn: front,
-                    point: 1 + i,
-                },
-                back: PointRef { yarn, point: 1 + j },
-                kind: ContactKind::Layer,
-                partner: None,
-            });
-        }
-    }
-    f
-}
 
 fn lowest_z(f: &Fabric) -> f64 {
     f.nodes.iter().map(|n| n.x.z).fold(f64::INFINITY, f64::min)
@@ -144,14 +83,17 @@ fn free_fall_follows_g_t_squared_over_two() {
 /// to 1e-6; (3) the consistent segment mass integrates the kinetic energy
 /// of a linear velocity field exactly, so the rod's moment of inertia is
 /// exactly `rho L^3 / 3`; and (4) at 0.1 rad the amplitude correction
-/// (`theta^2 / 16`) is 6e-4. Backward Euler damps the swing but shifts
-/// the period only by `O((omega h)^2)`, 1e-4 at `h = 1 ms`; the period is
-/// measured between zero crossings of the tip's horizontal position.
+/// (`theta^2 / 16`) is 6e-4. Backward Euler shifts the period only by
+/// `O((omega h)^2)`, 1e-4 at `h = 1 ms`; the period is measured between
+/// zero crossings of the tip's horizontal position. It damps the swing:
+/// per step the amplitude of an oscillator of frequency `omega` is divided
+/// by `sqrt(1 + (omega h)^2)`, so it decays as `exp(-omega^2 h t / 2)`,
+/// which the test checks too (docs/MODEL.md, "Dynamics").
 #[test]
 fn stiff_yarn_swings_as_a_compound_pendulum() {
     let l = 0.1;
     let theta: f64 = 0.1;
-    let mut f = common::yarn_fabric(l, 10, |s| Vec3::new(s * l * theta.sin(), 0.0, -s * l * theta.cos()));
+    let mut f = drape_support::common::yarn_fabric(l, 10, |s| Vec3::new(s * l * theta.sin(), 0.0, -s * l * theta.cos()));
     pin_nodes(&mut f, &[vec![0]]);
     let mut p = SimParams {
         terms: Terms {
@@ -172,10 +114,17 @@ fn stiff_yarn_swings_as_a_compound_pendulum() {
     let mut sim = Simulation::new(f, p, LinearSolver::direct(), 1e-3);
     let mut last = (0.0, sim.q()[sim.layout().x(tip)]);
     let mut crossings: Vec<f64> = Vec::new();
+    // Largest |x| of the tip in each half swing: (time, amplitude).
+    let mut peaks: Vec<(f64, f64)> = vec![(0.0, last.1.abs())];
     run_dynamics(&mut sim, &[vec![0]], None, &mut |sim, row| {
         let x = sim.q()[sim.layout().x(tip)];
         if last.1 > 0.0 && x <= 0.0 || last.1 < 0.0 && x >= 0.0 {
             crossings.push(last.0 + (row.time - last.0) * last.1 / (last.1 - x));
+            peaks.push((row.time, 0.0));
+        }
+        let p = peaks.last_mut().unwrap();
+        if x.abs() > p.1 {
+            *p = (row.time, x.abs());
         }
         last = (row.time, x);
         true
@@ -191,6 +140,16 @@ fn stiff_yarn_swings_as_a_compound_pendulum() {
         (measured / expect - 1.0).abs() < 0.02,
         "period {measured} s against {expect} s"
     );
+    // Amplitude decay between the first and the last complete half swing.
+    let (first, last) = (peaks[0], peaks[peaks.len() - 2]);
+    let omega = 2.0 * std::f64::consts::PI / expect;
+    let decay = last.1 / first.1;
+    let predicted = (-omega * omega * 1e-3 * (last.0 - first.0) / 2.0).exp();
+    eprintln!(
+        "pendulum: amplitude ratio {decay:.4} over {:.3} s, backward Euler predicts {predicted:.4}",
+        last.0 - first.0
+    );
+    assert!((decay - predicted).abs() < 0.02, "decay {decay} against {predicted}");
 }
 
 /// The patch resting on the plane `z = 0` with gravity tilted by `angle`

@@ -183,13 +183,13 @@ mod tests {
             Shape::Mesh {
                 path: "cube".into(),
                 scale: 0.1,
-                translate: [-0.05, -0.05, -0.1],
+                translate: [-0.04, -0.05, -0.1],
                 mesh: Arc::new(
                     TriMesh::from_obj(
                         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
                          f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n",
                         0.1,
-                        Vector3::new(-0.05, -0.05, -0.1),
+                        Vector3::new(-0.04, -0.05, -0.1),
                     )
                     .unwrap(),
                 ),
@@ -204,7 +204,7 @@ mod tests {
             Vector3::new(0.2003, 0.05, 0.0002),   // box edge region, outside
             Vector3::new(0.2002, 0.1001, 0.0003), // box corner region
             Vector3::new(0.03, -0.01, -0.02),     // deep
-            Vector3::new(0.0503, 0.02, 0.0004),   // mesh edge region
+            Vector3::new(0.0603, 0.02, 0.0004),   // mesh edge region
         ];
         for s in shapes() {
             let e = ObstaclePenalty {

@@ -18,13 +18,21 @@
 //!   above 0; the other scalars (`mu`, `kf`, `kw`, `ksh`, `kp`, the shear
 //!   jamming pair, the `assign` fractions, `separation.min_pull`, the
 //!   remaining `contact` factors) are 0 or above (`crate::checked`);
-//! - obstacles: a sphere's radius and a box's half extents are above 0, a
-//!   plane's normal is not `[0, 0, 0]` (`shape_json`);
+//! - obstacles: a sphere's and a cylinder's radius and a box's half
+//!   extents are above 0, a plane's normal and a cylinder's axis are not
+//!   `[0, 0, 0]`, a mesh's OBJ file (its `path` relative to the scene file)
+//!   is read and checked as the obstacle is read (`shape_json`);
+//! - `dynamics` (the settings of `knitsim drape`, `sim::dynamics_settings`):
+//!   time step, duration, frame rate, damping and friction values are
+//!   checked like the others; pins and motions are checked against the
+//!   fabric when a run starts (`sim::dynamics::pins`);
 //! - `assign.stop_fraction` and `assign.close_fraction` are below
 //!   `assign.safety_fraction` (unless 0); this rule compares two keys and is
 //!   located at the key in the text (`locate`).
 //!
-//! Scenes name no nodes: pins are part of the fabric (`Node::pinned`).
+//! Pins are part of the fabric (`Node::pinned`); a scene's `dynamics.pins`
+//! selects nodes to pin by corners, edges, stitches, yarn ends or index.
+//! The keys are listed in docs/SCENES.md.
 
 mod locate;
 mod shape_json;
