@@ -64,7 +64,7 @@ fn drape_writes_frames_a_collection_and_the_final_state() {
         r#"{"obstacles": [{"type": "plane", "point": [0, 0, -0.002], "normal": [0, 0, 1]}],
             "contact": {"mode": "none"},
             "terms": {"wrapping": false},
-            "dynamics": {"obstacle_mu": 0.3, "dt": 0.001, "max_dt": 0.004, "duration": 0.12, "frame_rate": 100}}"#,
+            "dynamics": {"obstacle_mu": 0.3, "dt": 0.001, "max_dt": 0.004, "duration": 0.12, "frame_rate": 100, "rest_time": 0}}"#,
     )
     .unwrap();
     let out = dir.path().join("out");
@@ -129,9 +129,9 @@ fn every_example_scene_loads() {
 fn dynamics_errors_name_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
     for (text, at, words) in [
-        ("{\"dynamics\": {\n  \"dt\": 0\n}}", "2:9", "above 0"),
+        ("{\"dynamics\": {\n  \"dt\": 0}\n}", "2:10", "above 0"),
         ("{\"dynamics\": {\n  \"gravty\": [0, 0, 1]\n}}", "2:10", "unknown field `gravty`"),
-        ("{\"dynamics\": {\"obstacle_mu\": -1}}", "1:33", "0 or above"),
+        ("{\"dynamics\": {\"obstacle_mu\": -1}}", "1:32", "0 or above"),
         (
             "{\"obstacles\": [{\"type\": \"mesh\", \"path\": \"missing.obj\"}]}",
             "1:",
