@@ -92,17 +92,31 @@ fn drape_writes_frames_a_collection_and_the_final_state() {
     for (_, f) in &frames {
         assert!(out.join(f).is_file(), "{f}");
     }
-    for f in ["state.json", "draped.vtk", "draped.obj", "draped.mtl", "draped.png", "obstacles.vtu", "obstacles.obj"] {
+    for f in [
+        "state.json",
+        "draped.vtk",
+        "draped.obj",
+        "draped.mtl",
+        "draped.png",
+        "obstacles.vtu",
+        "obstacles.obj",
+    ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     let csv = std::fs::read_to_string(out.join("energy.csv")).unwrap();
     let mut lines = csv.lines();
-    assert!(lines.next().unwrap().starts_with("time_s,step,h_s,kinetic_j,potential_j,newton_iterations"));
-    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("time_s,step,h_s,kinetic_j,potential_j,newton_iterations"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
     assert!(rows.len() >= 30, "{} steps", rows.len());
     // The patch falls: kinetic energy rises from zero in the first steps.
     assert!(rows[5][3] > 0.0);
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["frames"].as_u64().unwrap() as usize, frames.len());
     assert!(summary["min_obstacle_clearance"].as_f64().unwrap() > 0.5);
     // meshio reads the last frame: one point per yarn point, a line per segment.
@@ -130,7 +144,11 @@ fn dynamics_errors_name_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
     for (text, at, words) in [
         ("{\"dynamics\": {\n  \"dt\": 0}\n}", "2:10", "above 0"),
-        ("{\"dynamics\": {\n  \"gravty\": [0, 0, 1]\n}}", "2:10", "unknown field `gravty`"),
+        (
+            "{\"dynamics\": {\n  \"gravty\": [0, 0, 1]\n}}",
+            "2:10",
+            "unknown field `gravty`",
+        ),
         ("{\"dynamics\": {\"obstacle_mu\": -1}}", "1:32", "0 or above"),
         (
             "{\"obstacles\": [{\"type\": \"mesh\", \"path\": \"missing.obj\"}]}",
@@ -148,11 +166,7 @@ fn dynamics_errors_name_line_and_column() {
     let state = dir.path().join("patch.json");
     knitsim::io::save_json(&woven_patch(), &state).unwrap();
     let scene = dir.path().join("pins.json");
-    std::fs::write(
-        &scene,
-        r#"{"dynamics": {"pins": [{"select": "nodes", "nodes": []}]}}"#,
-    )
-    .unwrap();
+    std::fs::write(&scene, r#"{"dynamics": {"pins": [{"select": "nodes", "nodes": []}]}}"#).unwrap();
     let run = knitsim()
         .args(["drape", "--no-relax", "-o"])
         .arg(dir.path().join("o"))
@@ -178,20 +192,45 @@ fn default_scene_drapes_the_linen_stitch_over_the_sphere() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let pattern = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/linen-stitch.knit");
-    let run = knitsim().arg("drape").arg(&pattern).arg("-o").arg(&out).output().unwrap();
-    assert!(matches!(run.status.code(), Some(0) | Some(3)), "{}", String::from_utf8_lossy(&run.stderr));
+    let run = knitsim()
+        .arg("drape")
+        .arg(&pattern)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        matches!(run.status.code(), Some(0) | Some(3)),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let frames = pvd_frames(&out.join("drape.pvd"));
     assert!(frames.len() >= 10, "{} frames", frames.len());
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    let flat = summary["flat_size_mm"][0].as_f64().unwrap().max(summary["flat_size_mm"][1].as_f64().unwrap());
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let flat = summary["flat_size_mm"][0]
+        .as_f64()
+        .unwrap()
+        .max(summary["flat_size_mm"][1].as_f64().unwrap());
     assert!(summary["final_size_mm"][2].as_f64().unwrap() >= 0.25 * flat);
     let sphere = &summary["obstacles"][0];
-    let c: Vec<f64> = sphere["center"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let c: Vec<f64> = sphere["center"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
     let radius = sphere["radius"].as_f64().unwrap();
     let yarn = 0.6e-3; // linen-stitch.knit: radius 0.6 mm
     for (_, f) in &frames {
         let text = std::fs::read_to_string(out.join(f)).unwrap();
-        let block = text.split("<Points>").nth(1).unwrap().split("</DataArray>").next().unwrap();
+        let block = text
+            .split("<Points>")
+            .nth(1)
+            .unwrap()
+            .split("</DataArray>")
+            .next()
+            .unwrap();
         for line in block.lines().skip(2) {
             let p: Vec<f64> = line.split_whitespace().map(|v| v.parse().unwrap()).collect();
             if p.len() == 3 {

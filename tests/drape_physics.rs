@@ -93,7 +93,8 @@ fn free_fall_follows_g_t_squared_over_two() {
 fn stiff_yarn_swings_as_a_compound_pendulum() {
     let l = 0.1;
     let theta: f64 = 0.1;
-    let mut f = drape_support::common::yarn_fabric(l, 10, |s| Vec3::new(s * l * theta.sin(), 0.0, -s * l * theta.cos()));
+    let mut f =
+        drape_support::common::yarn_fabric(l, 10, |s| Vec3::new(s * l * theta.sin(), 0.0, -s * l * theta.cos()));
     pin_nodes(&mut f, &[vec![0]]);
     let mut p = SimParams {
         terms: Terms {
@@ -254,13 +255,20 @@ fn a_patch_dropped_on_a_plane_comes_to_rest_without_crossings() {
             .filter(|&(i, j, t)| segs.link(i, j, |n| x0[n] + (x1[n] - x0[n]) * t) >= touch)
             .count();
         let speed = knitsim::sim::dynamics::max_speed(&sim);
-        rest_for = if speed < p.dynamics.rest_speed { rest_for + s.h } else { 0.0 };
+        rest_for = if speed < p.dynamics.rest_speed {
+            rest_for + s.h
+        } else {
+            0.0
+        };
         if rest_for >= p.dynamics.rest_time {
             t_rest = Some(sim.time());
             break;
         }
     }
-    let low = node_positions(&sim, sim.q()).iter().map(|x| x.z).fold(f64::INFINITY, f64::min);
+    let low = node_positions(&sim, sim.q())
+        .iter()
+        .map(|x| x.z)
+        .fold(f64::INFINITY, f64::min);
     eprintln!(
         "plane drop: {steps} steps, at rest at {t_rest:?} s, {crossings} crossings, lowest node {:.3} radii above the plane",
         (low - plane_z) / r
@@ -279,7 +287,9 @@ fn form_planes(scale: f64, offset: Vec3) -> Vec<(Vec3, Vec3)> {
     for line in text.lines() {
         let w: Vec<&str> = line.split_whitespace().collect();
         match w.first() {
-            Some(&"v") => v.push(Vec3::new(w[1].parse().unwrap(), w[2].parse().unwrap(), w[3].parse().unwrap()) * scale + offset),
+            Some(&"v") => {
+                v.push(Vec3::new(w[1].parse().unwrap(), w[2].parse().unwrap(), w[3].parse().unwrap()) * scale + offset)
+            }
             Some(&"f") => {
                 let k: Vec<usize> = w[1..].iter().map(|s| s.parse::<usize>().unwrap() - 1).collect();
                 let n = (v[k[1]] - v[k[0]]).cross(&(v[k[2]] - v[k[0]])).normalize();
@@ -345,5 +355,9 @@ fn a_patch_drapes_over_an_obj_form_and_no_node_ends_inside() {
     );
     assert_eq!(inside, 0);
     // It hangs over the form: the edges come down its sides.
-    assert!(form_top - low > 1e-3, "lowest node only {} m below the top", form_top - low);
+    assert!(
+        form_top - low > 1e-3,
+        "lowest node only {} m below the top",
+        form_top - low
+    );
 }

@@ -4,8 +4,8 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use knitsim::app::stability::{run_suite, CaseOutcome, SuiteOptions};
 use knitsim::app::drape::Progress as DrapeProgress;
+use knitsim::app::stability::{run_suite, CaseOutcome, SuiteOptions};
 use knitsim::app::{load_fabric, run_drape, run_relax, study, DrapeJob, InputError, RelaxJob, RunStatus};
 use knitsim::io::{
     fit_preview, save_json, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,

@@ -49,11 +49,15 @@ pub fn write_vtu(fabric: &Fabric, path: &Path) -> Result<(), IoError> {
             cells: &cells,
             cell_type: VTK_LINE,
         };
-        grid.write(w, |w| {
-            int_array(w, "yarn_id", yarn_of_point.iter().map(|v| *v as i64))?;
-            int_array(w, "node_kind", kinds.iter().map(|v| *v as i64))?;
-            float_array(w, "u", us.iter().copied())
-        }, |w| int_array(w, "yarn_id", cell_yarn.iter().map(|v| *v as i64)))
+        grid.write(
+            w,
+            |w| {
+                int_array(w, "yarn_id", yarn_of_point.iter().map(|v| *v as i64))?;
+                int_array(w, "node_kind", kinds.iter().map(|v| *v as i64))?;
+                float_array(w, "u", us.iter().copied())
+            },
+            |w| int_array(w, "yarn_id", cell_yarn.iter().map(|v| *v as i64)),
+        )
     })
 }
 
@@ -72,7 +76,11 @@ pub fn write_triangles_vtu(
             cells: &cells,
             cell_type: VTK_TRIANGLE,
         }
-        .write(w, |_| Ok(()), |w| int_array(w, "obstacle_id", ids.iter().map(|v| *v as i64)))
+        .write(
+            w,
+            |_| Ok(()),
+            |w| int_array(w, "obstacle_id", ids.iter().map(|v| *v as i64)),
+        )
     })
 }
 
@@ -87,7 +95,10 @@ pub struct PvdEntry {
 pub fn write_pvd(entries: &[PvdEntry], path: &Path) -> Result<(), IoError> {
     write_atomic(path, |w| {
         writeln!(w, "<?xml version=\"1.0\"?>")?;
-        writeln!(w, "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">")?;
+        writeln!(
+            w,
+            "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">"
+        )?;
         writeln!(w, "  <Collection>")?;
         for e in entries {
             writeln!(
@@ -102,7 +113,10 @@ pub fn write_pvd(entries: &[PvdEntry], path: &Path) -> Result<(), IoError> {
 }
 
 fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('"', "&quot;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('"', "&quot;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 struct Grid<'a> {
@@ -122,7 +136,10 @@ impl Grid<'_> {
     ) -> io::Result<()> {
         let (point_data, cell_data): (Arrays, Arrays) = (&point_data, &cell_data);
         writeln!(w, "<?xml version=\"1.0\"?>")?;
-        writeln!(w, "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">")?;
+        writeln!(
+            w,
+            "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">"
+        )?;
         writeln!(w, "<UnstructuredGrid>")?;
         writeln!(
             w,
@@ -135,7 +152,10 @@ impl Grid<'_> {
         writeln!(w, "</PointData>\n<CellData>")?;
         cell_data(w)?;
         writeln!(w, "</CellData>\n<Points>")?;
-        writeln!(w, "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">")?;
+        writeln!(
+            w,
+            "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+        )?;
         for p in self.points {
             writeln!(w, "{:e} {:e} {:e}", p[0], p[1], p[2])?;
         }
@@ -145,13 +165,19 @@ impl Grid<'_> {
             let s: Vec<String> = c.iter().map(|i| i.to_string()).collect();
             writeln!(w, "{}", s.join(" "))?;
         }
-        writeln!(w, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">")?;
+        writeln!(
+            w,
+            "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
+        )?;
         let mut off = 0;
         for c in self.cells {
             off += c.len();
             writeln!(w, "{off}")?;
         }
-        writeln!(w, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">")?;
+        writeln!(
+            w,
+            "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">"
+        )?;
         for _ in self.cells {
             writeln!(w, "{}", self.cell_type)?;
         }
@@ -211,6 +237,9 @@ mod tests {
         write_pvd(&entries, &path).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text.matches("<DataSet ").count(), 2);
-        assert!(text.contains("timestep=\"2e-2\"") && text.contains("file=\"frames/frame_0001.vtu\""), "{text}");
+        assert!(
+            text.contains("timestep=\"2e-2\"") && text.contains("file=\"frames/frame_0001.vtu\""),
+            "{text}"
+        );
     }
 }

@@ -83,7 +83,11 @@ impl Shape {
                     return (-radius, (any - a * a.dot(&any)).normalize(), Matrix3::zeros());
                 }
                 let n = radial / r;
-                (r - radius, n, (Matrix3::identity() - a * a.transpose() - n * n.transpose()) / r)
+                (
+                    r - radius,
+                    n,
+                    (Matrix3::identity() - a * a.transpose() - n * n.transpose()) / r,
+                )
             }
             Shape::Mesh { mesh, .. } => mesh.sdf(x),
         }

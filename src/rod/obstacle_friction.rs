@@ -103,12 +103,7 @@ mod tests {
     use crate::energy::fd::check_derivatives;
 
     fn friction() -> ObstacleFriction {
-        ObstacleFriction::new(
-            0.02,
-            1e-6,
-            Vector3::new(0.01, 0.0, 0.0),
-            Vector3::new(0.0, 0.6, 0.8),
-        )
+        ObstacleFriction::new(0.02, 1e-6, Vector3::new(0.01, 0.0, 0.0), Vector3::new(0.0, 0.6, 0.8))
     }
 
     #[test]

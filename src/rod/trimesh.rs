@@ -187,7 +187,10 @@ fn closest_on_triangle(p: &Vector3<f64>, t: &[usize; 3], v: &[Vector3<f64>]) -> 
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))), Feature::Edge(ib, ic));
+        return (
+            b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))),
+            Feature::Edge(ib, ic),
+        );
     }
     let denom = 1.0 / (va + vb + vc);
     (a + ab * (vb * denom) + ac * (vc * denom), Feature::Face)
@@ -206,11 +209,11 @@ mod tests {
         let m = TriMesh::from_obj(CUBE, 1.0, Vector3::zeros()).unwrap();
         assert_eq!(m.triangles.len(), 12);
         for (x, d) in [
-            (Vector3::new(0.5, 0.5, 1.5), 0.5),    // above a face
-            (Vector3::new(0.5, 0.5, 0.9), -0.1),   // inside, near the top
-            (Vector3::new(1.3, 0.5, 1.4), 0.5),    // off an edge
+            (Vector3::new(0.5, 0.5, 1.5), 0.5),         // above a face
+            (Vector3::new(0.5, 0.5, 0.9), -0.1),        // inside, near the top
+            (Vector3::new(1.3, 0.5, 1.4), 0.5),         // off an edge
             (Vector3::new(2.0, 2.0, 2.0), 3f64.sqrt()), // off a corner
-            (Vector3::new(0.5, 0.4, 0.5), -0.4),   // centre region
+            (Vector3::new(0.5, 0.4, 0.5), -0.4),        // centre region
         ] {
             let (s, g, _) = m.sdf(&x);
             assert!((s - d).abs() < 1e-12, "{x:?}: {s} vs {d}");
@@ -222,7 +225,11 @@ mod tests {
     fn gradient_and_hessian_match_finite_differences_off_edges_and_corners() {
         let m = TriMesh::from_obj(CUBE, 1.0, Vector3::zeros()).unwrap();
         let h = 1e-6;
-        for x in [Vector3::new(1.3, 0.5, 1.4), Vector3::new(1.2, 1.3, 1.1), Vector3::new(0.3, 0.6, 1.2)] {
+        for x in [
+            Vector3::new(1.3, 0.5, 1.4),
+            Vector3::new(1.2, 1.3, 1.1),
+            Vector3::new(0.3, 0.6, 1.2),
+        ] {
             let (_, g, hs) = m.sdf(&x);
             for i in 0..3 {
                 let mut e = Vector3::zeros();
@@ -231,7 +238,11 @@ mod tests {
                 let (sm, gm, _) = m.sdf(&(x - e));
                 assert!(((sp - sm) / (2.0 * h) - g[i]).abs() < 1e-6);
                 let col = (gp - gm) / (2.0 * h);
-                assert!((col - hs.column(i)).norm() < 1e-5, "{x:?} {i}: {col:?} vs {:?}", hs.column(i));
+                assert!(
+                    (col - hs.column(i)).norm() < 1e-5,
+                    "{x:?} {i}: {col:?} vs {:?}",
+                    hs.column(i)
+                );
             }
         }
     }
@@ -249,6 +260,9 @@ mod tests {
             TriMesh::from_obj("v 0 0 x\n", 1.0, Vector3::zeros()),
             Err(MeshError::Line { line: 1, .. })
         ));
-        assert_eq!(TriMesh::from_obj("v 0 0 0\n", 1.0, Vector3::zeros()), Err(MeshError::Empty));
+        assert_eq!(
+            TriMesh::from_obj("v 0 0 0\n", 1.0, Vector3::zeros()),
+            Err(MeshError::Empty)
+        );
     }
 }

@@ -44,7 +44,8 @@ thread_local! {
 fn load_mesh(path: &str, scale: f64, translate: [f64; 3]) -> Result<TriMesh, String> {
     let full = BASE_DIR.with(|b| b.borrow().join(path));
     let text = std::fs::read_to_string(&full).map_err(|e| format!("cannot read mesh {}: {e}", full.display()))?;
-    TriMesh::from_obj(&text, scale, nalgebra::Vector3::from(translate)).map_err(|e| format!("mesh {}: {e}", full.display()))
+    TriMesh::from_obj(&text, scale, nalgebra::Vector3::from(translate))
+        .map_err(|e| format!("mesh {}: {e}", full.display()))
 }
 
 /// Which check the three numbers of an array get.
@@ -294,7 +295,10 @@ mod tests {
             (r#"{"type": "sphere", "center": [0, 0, 0]}"#, "missing field `radius`"),
             (r#"{"center": [0, 0, 0], "radius": 1}"#, "missing field `type`"),
             (r#"{"type": "cone"}"#, "unknown variant `cone`"),
-            (r#"{"type": "cylinder", "point": [0, 0, 0], "radius": 1}"#, "missing field `axis`"),
+            (
+                r#"{"type": "cylinder", "point": [0, 0, 0], "radius": 1}"#,
+                "missing field `axis`",
+            ),
             (r#"{"type": "mesh", "path": "no-such-file.obj"}"#, "cannot read mesh"),
             (r#"{"type": "sphere", "colour": 1}"#, "unknown field `colour`"),
             (r#"{"type": "sphere", "type": "box"}"#, "duplicate field `type`"),

@@ -235,7 +235,9 @@ mod tests {
             }]
         );
         assert!(serde_json::from_str::<DynamicsParams>(r#"{"gravty": [0, 0, 1]}"#).is_err());
-        assert!(serde_json::from_str::<DynamicsParams>(r#"{"pins": [{"select": "edge", "edge": "top", "x": 1}]}"#).is_err());
+        assert!(
+            serde_json::from_str::<DynamicsParams>(r#"{"pins": [{"select": "edge", "edge": "top", "x": 1}]}"#).is_err()
+        );
         assert!(serde_json::from_str::<DynamicsParams>(r#"{"dt": 0}"#).is_err());
     }
 }

@@ -67,4 +67,3 @@ pub fn woven_patch() -> Fabric {
     }
     f
 }
-

@@ -142,7 +142,11 @@ pub fn write_final(
 ) -> Result<(), IoError> {
     write_vtk(fabric, &dir.join("draped.vtk"), &VtkOptions::default())?;
     write_obj(fabric, &dir.join("draped.obj"), &ObjOptions::default())?;
-    write_png(fabric, &dir.join("draped.png"), &fit_preview(fabric, PngOptions::default()))?;
+    write_png(
+        fabric,
+        &dir.join("draped.png"),
+        &fit_preview(fabric, PngOptions::default()),
+    )?;
     let obstacles = &sim.params().obstacles;
     if !obstacles.is_empty() {
         let ext = extents(fabric);

@@ -101,8 +101,12 @@ pub fn obstacle_triangles(shapes: &[Shape], centre: [f64; 3], size: f64) -> Tria
                     }
                 }
             }
-            Shape::Box { center, half_extents: h } => {
-                let c = |sx: f64, sy: f64, sz: f64| [center[0] + sx * h[0], center[1] + sy * h[1], center[2] + sz * h[2]];
+            Shape::Box {
+                center,
+                half_extents: h,
+            } => {
+                let c =
+                    |sx: f64, sy: f64, sz: f64| [center[0] + sx * h[0], center[1] + sy * h[1], center[2] + sz * h[2]];
                 for s in [-1.0, 1.0] {
                     t.push_quad(id, [c(s, -1.0, -1.0), c(s, 1.0, -1.0), c(s, 1.0, 1.0), c(s, -1.0, 1.0)]);
                     t.push_quad(id, [c(-1.0, s, -1.0), c(1.0, s, -1.0), c(1.0, s, 1.0), c(-1.0, s, 1.0)]);

@@ -79,7 +79,13 @@ pub fn resolve_pins(compiled: &Fabric, selectors: &[PinSelector]) -> Result<Vec<
             PinSelector::Stitches { rows, columns } => {
                 let g = grid.get_or_insert_with(|| StitchGrid::of(compiled));
                 let (nr, nc) = g.size();
-                if rows[0] < 1 || rows[0] > rows[1] || rows[1] > nr || columns[0] < 1 || columns[0] > columns[1] || columns[1] > nc {
+                if rows[0] < 1
+                    || rows[0] > rows[1]
+                    || rows[1] > nr
+                    || columns[0] < 1
+                    || columns[0] > columns[1]
+                    || columns[1] > nc
+                {
                     return Err(bad(format!(
                         "rows {rows:?} and columns {columns:?} must be ranges within the {nr} x {nc} interlock grid (1-based)"
                     )));
