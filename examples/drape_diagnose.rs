@@ -4,6 +4,13 @@
 //! step needs many iterations or retries.
 //!
 //! `cargo run --release --example drape_diagnose -- [PATTERN] [SIZE] [STEPS]`
+//!
+//! Switches (environment variables, set to anything): `DIAG_NO_CONTACT`,
+//! `DIAG_SPLIT` (split bending Hessian), `DIAG_NO_FRICTION`,
+//! `DIAG_NO_WRAP`, `DIAG_NO_SHEAR`, `DIAG_NO_PARALLEL`, `DIAG_NO_GRAVITY`,
+//! `DIAG_NO_EIL`, `DIAG_KEEP_EIL`; `DIAG_TOL=x` sets `dynamics.newton_tol`
+//! and `DIAG_ITS=n` `dynamics.newton_max_iterations`. docs/MODEL.md,
+//! "Dynamics", quotes what they showed.
 
 use knitsim::app::drape::scene::with_default_scene;
 use knitsim::sim::dynamics::{dynamic_params, schedule};
@@ -57,8 +64,7 @@ fn main() {
     }
     let mut sim = Simulation::new(relaxed, p.clone(), LinearSolver::direct(), p.dynamics.dt);
     let mut s = schedule(&sim, &p.dynamics);
-    let on = |k: &str| std::env::var_os(k).is_some();
-    s.keep_eil = on("DIAG_KEEP_EIL");
+    s.keep_eil = std::env::var_os("DIAG_KEEP_EIL").is_some();
     eprintln!("force tolerance {:.3e} N", s.newton.max_force_tol);
     for k in 0..steps {
         let t = std::time::Instant::now();

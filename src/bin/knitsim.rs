@@ -603,7 +603,7 @@ fn drape(
         );
     }
     println!(
-        "{} time steps, {} Newton iterations, {:.3} s simulated; {} frames in {}",
+        "{} time steps, {} Newton iterations, {:.3e} s simulated; {} frames in {}",
         s.steps,
         s.newton_iterations,
         s.time,

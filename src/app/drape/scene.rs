@@ -23,8 +23,8 @@ pub const DEFAULT_MU: f64 = 0.3;
 fn bounds(f: &Fabric) -> ([f64; 3], [f64; 3]) {
     let mut lo = [f64::INFINITY; 3];
     for n in &f.nodes {
-        for k in 0..3 {
-            lo[k] = lo[k].min(n.x[k]);
+        for (k, l) in lo.iter_mut().enumerate() {
+            *l = l.min(n.x[k]);
         }
     }
     (lo, extents(f))
