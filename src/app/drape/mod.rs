@@ -15,6 +15,9 @@
 //!   (largest node speed), wall seconds;
 //! - `summary.json` (`outputs::DrapeSummary`).
 //!
+//! A run that fails (a step that does not converge even at the smallest
+//! time step) keeps its frames and `energy.csv` and reports the error.
+//!
 //! With no scene the embedded default applies (`scene`): the pattern is
 //! relaxed first with the default `RelaxOptions`, then dropped onto a
 //! sphere.
@@ -167,7 +170,15 @@ pub fn run_drape(
             }
         }
         true
-    })?;
+    });
+    let report = match report {
+        Ok(r) => r,
+        Err(e) => {
+            // The steps taken so far are still worth a look.
+            let _ = outputs::write_energy_csv(&rows, &out.join("energy.csv"));
+            return Err(e.into());
+        }
+    };
     if let Some(e) = io_error {
         return Err(e.into());
     }
