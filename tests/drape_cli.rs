@@ -179,7 +179,7 @@ fn dynamics_errors_name_line_and_column() {
     assert!(String::from_utf8_lossy(&run.stderr).contains("pins[0]: selects no node"));
 }
 
-/// Acceptance of the default scene: `knitsim drape patterns/linen-stitch.knit
+/// What the default scene must do: `knitsim drape patterns/linen-stitch.knit
 /// -o OUT` writes `drape.pvd` with at least 10 frames, meshio reads the last
 /// one, the swatch hangs (vertical extent at least 25% of its flat width)
 /// and no node comes closer to the sphere's centre than its radius plus 0.9
