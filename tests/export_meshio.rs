@@ -269,3 +269,38 @@ fn obj_tubes_read_back_with_expected_counts() {
     check_obj(&with_eil(), 5, 1);
     check_obj(&with_eil(), 12, 3);
 }
+
+/// A frame of a dynamic run (`.vtu`, the files `drape.pvd` lists) reads
+/// back with the points, line cells and fields of the legacy file.
+#[test]
+fn vtu_frames_read_back() {
+    for (fabric, name) in [(three_yarns(), "three.vtu"), (with_eil(), "eil.vtu")] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(name);
+        knitsim::io::write_vtu(&fabric, &path).unwrap();
+        let counts = point_counts(&fabric);
+        let points: usize = counts.iter().sum();
+        let cells: usize = counts.iter().map(|n| n - 1).sum();
+        let fields = [
+            "--point-data",
+            "yarn_id",
+            "--point-data",
+            "node_kind",
+            "--point-data",
+            "u",
+            "--cell-data",
+            "yarn_id",
+        ];
+        check_mesh(&path, points, cells, "line", &fields);
+    }
+}
+
+/// Obstacles drawn as triangles (`obstacles.vtu`) read back.
+#[test]
+fn obstacle_triangles_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("obstacles.vtu");
+    let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    knitsim::io::write_triangles_vtu(&points, &[[0, 1, 2], [0, 2, 3]], &[0, 1], &path).unwrap();
+    check_mesh(&path, 4, 2, "triangle", &["--cell-data", "obstacle_id"]);
+}

@@ -121,6 +121,8 @@ fn usable(p: &SimParams) -> bool {
         Shape::Sphere { radius, .. } => radius.is_finite() && *radius > 0.0,
         Shape::Plane { normal, .. } => normal.iter().any(|v| *v != 0.0),
         Shape::Box { half_extents, .. } => half_extents.iter().all(|v| v.is_finite() && *v > 0.0),
+        Shape::Cylinder { axis, radius, .. } => axis.iter().any(|v| *v != 0.0) && radius.is_finite() && *radius > 0.0,
+        Shape::Mesh { mesh, scale, .. } => !mesh.triangles.is_empty() && *scale > 0.0,
     });
     positive.iter().all(|v| v.is_finite() && *v > 0.0) && r.mu.is_finite() && r.mu >= 0.0 && obstacles
 }

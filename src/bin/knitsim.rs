@@ -4,8 +4,9 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use knitsim::app::drape::Progress as DrapeProgress;
 use knitsim::app::stability::{run_suite, CaseOutcome, SuiteOptions};
-use knitsim::app::{load_fabric, run_relax, study, InputError, RelaxJob, RunStatus};
+use knitsim::app::{load_fabric, run_drape, run_relax, study, DrapeJob, InputError, RelaxJob, RunStatus};
 use knitsim::io::{
     fit_preview, save_json, write_obj, write_png, write_vtk, IoError, ObjOptions, PngOptions, VtkOptions,
 };
@@ -43,8 +44,9 @@ const EXIT_CODES: &str = "Exit status:
   2    bad input: command line, pattern, scene, or a file that cannot be read
        or written
   3    relax: not converged (step cap reached or final state rejected by the
-       state checks); the state is still written
-  130  relax: stopped by Ctrl-C; the state reached is still written";
+       state checks); drape: not at rest at the end of the scene's duration;
+       the state is still written
+  130  relax, drape: stopped by Ctrl-C; the state reached is still written";
 
 const EXIT_ERROR: i32 = 1;
 const EXIT_BAD_INPUT: i32 = 2;
@@ -119,6 +121,26 @@ enum Command {
         /// "Bending Hessian"). Overrides the scene's "bending_hessian".
         #[arg(long, value_name = "MODEL")]
         bending_hessian: Option<BendingHessian>,
+    },
+    /// Drape a pattern (or a saved topology/state): relax it, then simulate
+    /// it under gravity on the scene's obstacles until it comes to rest,
+    /// writing frames (drape.pvd) as it goes. Without --scene: dropped on a
+    /// sphere 0.35 swatch widths in radius.
+    Drape {
+        input: PathBuf,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Linear solver for the Newton steps (as for relax).
+        #[arg(long, value_enum, default_value_t = SolverChoice::Auto)]
+        solver: SolverChoice,
+        /// A scene file (JSON): obstacles, parameters and the "dynamics"
+        /// section (gravity, pins, motions, damping, time step, duration,
+        /// frame rate; docs/SCENES.md).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Drape the input as it is, without relaxing it first.
+        #[arg(long)]
+        no_relax: bool,
     },
     /// Run the numerical stability suite (stiff and extreme cases) and write
     /// stability.md and stability.csv to the output directory.
@@ -213,7 +235,15 @@ fn main() {
 /// that cannot be read or written, or a refused argument; 1 otherwise.
 fn exit_code(e: &anyhow::Error) -> i32 {
     for cause in e.chain() {
-        if cause.is::<InputError>() || cause.is::<knitsim::scene::SceneError>() || cause.is::<BadArgument>() {
+        if cause.is::<InputError>()
+            || cause.is::<knitsim::scene::SceneError>()
+            || cause.is::<BadArgument>()
+            || cause.is::<knitsim::sim::dynamics::pins::PinError>()
+            || matches!(
+                cause.downcast_ref::<knitsim::app::drape::DrapeError>(),
+                Some(knitsim::app::drape::DrapeError::Motion { .. } | knitsim::app::drape::DrapeError::Pins(_))
+            )
+        {
             return EXIT_BAD_INPUT;
         }
         if let Some(io) = cause.downcast_ref::<IoError>() {
@@ -238,6 +268,13 @@ fn run(cli: Cli) -> Result<i32> {
         Command::Compile { pattern, output, stats } => compile(&pattern, &opts, &output, stats).map(|()| 0),
         Command::Export { input, vtk, obj, png } => export(&input, &opts, vtk, obj, png).map(|()| 0),
         Command::Stability { output, quick } => stability(&output, quick),
+        Command::Drape {
+            input,
+            output,
+            solver,
+            scene,
+            no_relax,
+        } => drape(&input, &output, solver, scene.as_deref(), no_relax, &opts),
         Command::Relax {
             input,
             output,
@@ -508,6 +545,95 @@ fn relax(
     println!(
         "largest free force {:.3e} x force scale {:.2e} N ({state}, tol {:.1e}), energy {:.4e} J, wall time {:.2} s",
         r.residual, r.force_scale.value, options.tol, outcome.summary.energy, outcome.wall_s
+    );
+    Ok(code)
+}
+
+fn drape(
+    input: &Path,
+    out: &Path,
+    solver: SolverChoice,
+    scene: Option<&Path>,
+    no_relax: bool,
+    opts: &CompileOptions,
+) -> Result<i32> {
+    let fabric = load(input, opts)?.fabric;
+    let params = knitsim::scene::params_for(&fabric, scene)?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)).context("installing the Ctrl-C handler")?;
+    let duration_ms = (params.dynamics.duration * 1e3).round() as u64;
+    let bar = ProgressBar::new(duration_ms);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} drape [{elapsed_precise}] {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    let job = DrapeJob {
+        params,
+        default_scene: scene.is_none(),
+        relax: (!no_relax).then(RelaxOptions::default),
+        solver: solver.into(),
+        out_dir: out.to_path_buf(),
+    };
+    // Without a terminal (a log file) every step is a line instead.
+    let log = bar.is_hidden();
+    let outcome = run_drape(fabric, job, Some(&cancel), &mut |p| {
+        let msg = match p {
+            DrapeProgress::Relax(k, r) => format!("relaxing: step {k}, largest force {r:.3e} x scale"),
+            DrapeProgress::Drape(row) => format!(
+                "t = {:.2} ms of {duration_ms} ms, step {}, dt {:.3} ms, {} Newton, {} retries, speed {:.2e} m/s, kinetic {:.3e} J, {:.1} s",
+                row.time * 1e3,
+                row.step,
+                row.h * 1e3,
+                row.newton_iterations,
+                row.retries,
+                row.max_speed,
+                row.kinetic,
+                row.wall_s
+            ),
+        };
+        if log {
+            eprintln!("{msg}");
+        } else {
+            bar.set_message(msg);
+        }
+    })?;
+    bar.finish_and_clear();
+    eprintln!("{}", outcome.solver_note);
+    let s = &outcome.summary;
+    if let Some(r) = &outcome.relax {
+        println!(
+            "relaxed first: {} steps, {} ({:.1} s)",
+            r.steps,
+            if r.converged { "converged" } else { "NOT converged" },
+            s.relax_wall_s
+        );
+    }
+    println!(
+        "{} time steps, {} Newton iterations, {:.3e} s simulated; {} frames in {}",
+        s.steps,
+        s.newton_iterations,
+        s.time,
+        s.frames,
+        out.join("drape.pvd").display()
+    );
+    if s.min_obstacle_clearance.is_finite() {
+        println!(
+            "closest approach to an obstacle: {:.2} yarn radii (1 = touching)",
+            s.min_obstacle_clearance
+        );
+    }
+    let [w, h, d] = s.final_size_mm;
+    let (state, code) = if s.cancelled {
+        ("stopped by user", EXIT_STOPPED)
+    } else if s.at_rest {
+        ("at rest", 0)
+    } else {
+        ("NOT at rest at the end of the duration", EXIT_NOT_CONVERGED)
+    };
+    println!(
+        "final size {w:.1} x {h:.1} x {d:.1} mm, largest speed {:.2e} m/s ({state}), wall time {:.2} s",
+        s.final_max_speed, s.wall_s
     );
     Ok(code)
 }

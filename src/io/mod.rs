@@ -19,6 +19,8 @@
 //! - [`obj`]: smooth tube meshes with per-yarn materials, for renderers.
 //! - [`png`]: a shaded orthographic preview of the RS face, for people.
 //! - [`json`]: the full `Fabric`, to save and resume a state.
+//! - [`vtu`]: VTK XML frames and `.pvd` collections of a dynamic run
+//!   (ParaView's animation), and triangle meshes of obstacles.
 
 pub mod atomic;
 mod error;
@@ -32,6 +34,7 @@ pub mod smooth;
 pub mod tube;
 mod validate;
 pub mod vtk;
+pub mod vtu;
 
 pub use atomic::write_atomic;
 pub use error::{ExportError, IoError};
@@ -41,3 +44,4 @@ pub use png::{fit_preview, render_preview, write_png, Background, PngOptions, Pn
 pub use smooth::SmoothOptions;
 pub use tube::{TubeMesh, TubeOptions};
 pub use vtk::{write_vtk, VtkCells, VtkOptions};
+pub use vtu::{write_pvd, write_triangles_vtu, write_vtu, PvdEntry};

@@ -20,6 +20,7 @@
 //! | parallel contact | [`parallel_contact::ParallelContact`] | `[u1, u2]` | 2 | "Parallel-yarn contact" |
 //! | gravity | [`gravity::NodeGravity`], [`gravity::SegmentGravity`] | `[x]`, `[x_a, u_a, x_b, u_b]` | 3, 8 | "Gravity and obstacles" |
 //! | obstacle | [`obstacle::ObstaclePenalty`] | `[x]` | 3 | "Gravity and obstacles" |
+//! | obstacle friction | [`obstacle_friction::ObstacleFriction`] | `[x]` | 3 | "Obstacle friction" |
 //! | soft pin | [`pin::SoftPin`] | `[x]` | 3 | - |
 //!
 //! The inertia of an EoL segment is not a potential; [`mass::segment_mass`]
@@ -48,11 +49,13 @@ pub mod inertia;
 pub mod jet;
 pub mod mass;
 pub mod obstacle;
+pub mod obstacle_friction;
 pub mod parallel_contact;
 pub mod params;
 pub mod pin;
 pub mod shear;
 pub mod stretch;
+pub mod trimesh;
 pub mod wrapping;
 
 #[cfg(test)]

@@ -7,9 +7,11 @@
 //! that makes sliding over a sphere converge quadratically. Obstacles act on
 //! node positions only (3 local coordinates), so EoL sliding is untouched.
 
+use super::trimesh::TriMesh;
 use crate::energy::Stencil;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use serde::Serialize;
+use std::sync::Arc;
 
 /// A rigid, fixed obstacle. Scenes read it with its values checked
 /// (`scene::shape_json`): a sphere's radius and a box's half extents are
@@ -30,6 +32,23 @@ pub enum Shape {
     Box {
         center: [f64; 3],
         half_extents: [f64; 3],
+    },
+    /// Infinite circular cylinder around the line through `point` along
+    /// `axis` (a rail, a table edge, an arm).
+    Cylinder {
+        point: [f64; 3],
+        axis: [f64; 3],
+        radius: f64,
+    },
+    /// A closed triangle mesh read from an OBJ file (`rod::trimesh`),
+    /// scaled by `scale` and moved by `translate`; `path` as the scene
+    /// gives it.
+    Mesh {
+        path: String,
+        scale: f64,
+        translate: [f64; 3],
+        #[serde(skip)]
+        mesh: Arc<TriMesh>,
     },
 }
 
@@ -54,6 +73,23 @@ impl Shape {
             Shape::Box { center, half_extents } => {
                 box_sdf(&(x - Vector3::from(*center)), &Vector3::from(*half_extents))
             }
+            Shape::Cylinder { point, axis, radius } => {
+                let a = Vector3::from(*axis).normalize();
+                let d = x - Vector3::from(*point);
+                let radial = d - a * a.dot(&d);
+                let r = radial.norm();
+                if r < 1e-300 {
+                    let any = if a.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+                    return (-radius, (any - a * a.dot(&any)).normalize(), Matrix3::zeros());
+                }
+                let n = radial / r;
+                (
+                    r - radius,
+                    n,
+                    (Matrix3::identity() - a * a.transpose() - n * n.transpose()) / r,
+                )
+            }
+            Shape::Mesh { mesh, .. } => mesh.sdf(x),
         }
     }
 }
@@ -143,6 +179,25 @@ mod tests {
                 center: [0.0, 0.0, -0.05],
                 half_extents: [0.2, 0.1, 0.05],
             },
+            Shape::Cylinder {
+                point: [0.0, 0.0, -0.05],
+                axis: [1.0, 0.2, 0.0],
+                radius: 0.05,
+            },
+            Shape::Mesh {
+                path: "cube".into(),
+                scale: 0.1,
+                translate: [-0.04, -0.05, -0.1],
+                mesh: Arc::new(
+                    TriMesh::from_obj(
+                        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                         f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n",
+                        0.1,
+                        Vector3::new(-0.04, -0.05, -0.1),
+                    )
+                    .unwrap(),
+                ),
+            },
         ]
     }
 
@@ -153,6 +208,7 @@ mod tests {
             Vector3::new(0.2003, 0.05, 0.0002),   // box edge region, outside
             Vector3::new(0.2002, 0.1001, 0.0003), // box corner region
             Vector3::new(0.03, -0.01, -0.02),     // deep
+            Vector3::new(0.0603, 0.02, 0.0004),   // mesh edge region
         ];
         for s in shapes() {
             let e = ObstaclePenalty {

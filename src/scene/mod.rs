@@ -18,13 +18,21 @@
 //!   above 0; the other scalars (`mu`, `kf`, `kw`, `ksh`, `kp`, the shear
 //!   jamming pair, the `assign` fractions, `separation.min_pull`, the
 //!   remaining `contact` factors) are 0 or above (`crate::checked`);
-//! - obstacles: a sphere's radius and a box's half extents are above 0, a
-//!   plane's normal is not `[0, 0, 0]` (`shape_json`);
+//! - obstacles: a sphere's and a cylinder's radius and a box's half
+//!   extents are above 0, a plane's normal and a cylinder's axis are not
+//!   `[0, 0, 0]`, a mesh's OBJ file (its `path` relative to the scene file)
+//!   is read and checked as the obstacle is read (`shape_json`);
+//! - `dynamics` (the settings of `knitsim drape`, `sim::dynamics_settings`):
+//!   time step, duration, frame rate, damping and friction values are
+//!   checked like the others; pins and motions are checked against the
+//!   fabric when a run starts (`sim::dynamics::pins`);
 //! - `assign.stop_fraction` and `assign.close_fraction` are below
 //!   `assign.safety_fraction` (unless 0); this rule compares two keys and is
 //!   located at the key in the text (`locate`).
 //!
-//! Scenes name no nodes: pins are part of the fabric (`Node::pinned`).
+//! Pins are part of the fabric (`Node::pinned`); a scene's `dynamics.pins`
+//! selects nodes to pin by corners, edges, stitches, yarn ends or index.
+//! The keys are listed in docs/SCENES.md.
 
 mod locate;
 mod shape_json;
@@ -87,7 +95,12 @@ fn parse_error(path: &str, e: &serde_json::Error) -> SceneError {
 pub fn parse_params(bytes: &[u8], path: &Path) -> Result<SimParams, SceneError> {
     let p = path.display().to_string();
     let bytes = without_bom(bytes);
-    let params: SimParams = serde_json::from_slice(bytes).map_err(|e| parse_error(&p, &e))?;
+    // A mesh obstacle's OBJ path is relative to the scene file.
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    shape_json::BASE_DIR.with(|b| *b.borrow_mut() = dir);
+    let parsed = serde_json::from_slice::<SimParams>(bytes);
+    shape_json::BASE_DIR.with(|b| b.borrow_mut().clear());
+    let params: SimParams = parsed.map_err(|e| parse_error(&p, &e))?;
     let a = &params.assign;
     // A point stopped, or a segment tripped, outside the safety distance
     // would not be handed to EIL by the next re-assignment: a stop would

@@ -18,8 +18,35 @@ use serde::de::{Deserialize, Deserializer, Error, MapAccess, SeqAccess, Visitor}
 
 use crate::checked;
 use crate::rod::obstacle::Shape;
+use crate::rod::trimesh::TriMesh;
+use std::sync::Arc;
 
-const KEYS: &[&str] = &["type", "center", "radius", "point", "normal", "half_extents"];
+const KEYS: &[&str] = &[
+    "type",
+    "center",
+    "radius",
+    "point",
+    "normal",
+    "half_extents",
+    "axis",
+    "path",
+    "scale",
+    "translate",
+];
+
+thread_local! {
+    /// The folder a mesh's `path` is relative to: the scene file's, while
+    /// `scene::parse_params` reads it (the current folder otherwise).
+    pub(super) static BASE_DIR: std::cell::RefCell<std::path::PathBuf> = std::cell::RefCell::new(std::path::PathBuf::new());
+}
+
+/// Reads the OBJ file of a mesh obstacle.
+fn load_mesh(path: &str, scale: f64, translate: [f64; 3]) -> Result<TriMesh, String> {
+    let full = BASE_DIR.with(|b| b.borrow().join(path));
+    let text = std::fs::read_to_string(&full).map_err(|e| format!("cannot read mesh {}: {e}", full.display()))?;
+    TriMesh::from_obj(&text, scale, nalgebra::Vector3::from(translate))
+        .map_err(|e| format!("mesh {}: {e}", full.display()))
+}
 
 /// Which check the three numbers of an array get.
 #[derive(Clone, Copy)]
@@ -93,6 +120,8 @@ enum Type {
     Sphere,
     Plane,
     Box,
+    Cylinder,
+    Mesh,
 }
 
 struct ShapeVisitor;
@@ -109,12 +138,13 @@ impl<'de> Visitor<'de> for ShapeVisitor {
     type Value = Shape;
 
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str("an obstacle object with a \"type\" (sphere, plane or box)")
+        f.write_str("an obstacle object with a \"type\" (sphere, plane, box, cylinder or mesh)")
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Shape, A::Error> {
         let mut kind = None;
         let (mut center, mut radius, mut point, mut normal, mut half) = (None, None, None, None, None);
+        let (mut axis, mut path, mut scale, mut translate) = (None, None, None, None);
         let mut given: Vec<&'static str> = Vec::new();
         while let Some(key) = map.next_key::<String>()? {
             match key.as_str() {
@@ -124,6 +154,10 @@ impl<'de> Visitor<'de> for ShapeVisitor {
                 "point" => once(&mut point, map.next_value_seed(Three::Any)?, "point")?,
                 "normal" => once(&mut normal, map.next_value_seed(Three::NonZero)?, "normal")?,
                 "half_extents" => once(&mut half, map.next_value_seed(Three::Positive)?, "half_extents")?,
+                "axis" => once(&mut axis, map.next_value_seed(Three::NonZero)?, "axis")?,
+                "path" => once(&mut path, map.next_value::<String>()?, "path")?,
+                "scale" => once(&mut scale, map.next_value::<Radius>()?.0, "scale")?,
+                "translate" => once(&mut translate, map.next_value_seed(Three::Any)?, "translate")?,
                 other => return Err(A::Error::unknown_field(other, KEYS)),
             }
             given.extend(KEYS.iter().find(|k| **k == key));
@@ -133,6 +167,8 @@ impl<'de> Visitor<'de> for ShapeVisitor {
             Type::Sphere => ("sphere", &["type", "center", "radius"]),
             Type::Plane => ("plane", &["type", "point", "normal"]),
             Type::Box => ("box", &["type", "center", "half_extents"]),
+            Type::Cylinder => ("cylinder", &["type", "point", "axis", "radius"]),
+            Type::Mesh => ("mesh", &["type", "path", "scale", "translate"]),
         };
         if let Some(extra) = given.iter().find(|k| !keys.contains(k)) {
             return Err(A::Error::custom(format!(
@@ -154,6 +190,22 @@ impl<'de> Visitor<'de> for ShapeVisitor {
                 center: need(center, "center")?,
                 half_extents: need(half, "half_extents")?,
             },
+            Type::Cylinder => Shape::Cylinder {
+                point: need(point, "point")?,
+                axis: need(axis, "axis")?,
+                radius: radius.ok_or_else(|| A::Error::missing_field("radius"))?,
+            },
+            Type::Mesh => {
+                let path = path.ok_or_else(|| A::Error::missing_field("path"))?;
+                let (scale, translate) = (scale.unwrap_or(1.0), translate.unwrap_or([0.0; 3]));
+                let mesh = load_mesh(&path, scale, translate).map_err(A::Error::custom)?;
+                Shape::Mesh {
+                    path,
+                    scale,
+                    translate,
+                    mesh: Arc::new(mesh),
+                }
+            }
         })
     }
 }
@@ -243,6 +295,11 @@ mod tests {
             (r#"{"type": "sphere", "center": [0, 0, 0]}"#, "missing field `radius`"),
             (r#"{"center": [0, 0, 0], "radius": 1}"#, "missing field `type`"),
             (r#"{"type": "cone"}"#, "unknown variant `cone`"),
+            (
+                r#"{"type": "cylinder", "point": [0, 0, 0], "radius": 1}"#,
+                "missing field `axis`",
+            ),
+            (r#"{"type": "mesh", "path": "no-such-file.obj"}"#, "cannot read mesh"),
             (r#"{"type": "sphere", "colour": 1}"#, "unknown field `colour`"),
             (r#"{"type": "sphere", "type": "box"}"#, "duplicate field `type`"),
         ] {

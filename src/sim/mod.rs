@@ -32,6 +32,9 @@
 //! 7. [`schedule`], [`stepper`] and [`relax`]: [`Simulation`], which owns
 //!    the state, applies the events and takes the steps, each on a
 //!    [`Schedule`] passed in; and quasi-static relaxation on top of it.
+//!    [`dynamics`] runs implicit dynamics on top of it (pins, prescribed
+//!    motions, frames, the rest test); its settings,
+//!    [`dynamics_settings`], sit at layer 1 beside [`params`].
 //!
 //! # Adding an energy term
 //!
@@ -43,6 +46,8 @@
 //! sums of the existing terms keep their order.
 
 pub mod discretization;
+pub mod dynamics;
+pub mod dynamics_settings;
 pub mod events;
 pub mod force_scale;
 pub mod params;
@@ -53,6 +58,8 @@ pub mod state;
 pub mod stepper;
 pub mod terms;
 
+pub use dynamics::{DynamicsReport, StepRow};
+pub use dynamics_settings::DynamicsParams;
 pub use events::{RemovalCause, RemovedContact};
 pub use force_scale::ForceScale;
 pub use params::{AssignParams, ContactModeName, ContactParams, SeparationParams, SimParams, Terms, YarnRadii};

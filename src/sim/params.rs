@@ -10,6 +10,7 @@
 //! `SimParams`: kept beside their mechanisms they made `params` and the
 //! mechanisms import each other. Here every layer above can read them.
 
+use super::dynamics_settings::DynamicsParams;
 use crate::contact::ContactMode;
 use crate::rod::bending::BendingHessian;
 use crate::rod::obstacle::Shape;
@@ -90,6 +91,10 @@ pub struct SimParams {
     /// The PSD Hessian model of the bending stencils (`"eigen"`, the
     /// default, or `"split"`; `rod::bending::BendingHessian`).
     pub bending_hessian: BendingHessian,
+    /// Settings of dynamic runs (`knitsim drape`): gravity, damping,
+    /// obstacle friction, time stepping, pins and motions
+    /// (`sim::dynamics_settings`).
+    pub dynamics: DynamicsParams,
 }
 
 impl Default for SimParams {
@@ -105,6 +110,7 @@ impl Default for SimParams {
             remove_slid_off: true,
             separation: None,
             bending_hessian: BendingHessian::default(),
+            dynamics: DynamicsParams::default(),
         }
     }
 }

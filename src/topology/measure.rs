@@ -100,6 +100,12 @@ impl StitchGrid {
         (self.rows, self.cols)
     }
 
+    /// The stitch-contact nodes of interlock `(row, col)` (0-based, row 0
+    /// at the bottom, column 0 at the left); empty outside the grid.
+    pub fn cell(&self, row: usize, col: usize) -> &[usize] {
+        self.cells.get(&(row, col)).map_or(&[], Vec::as_slice)
+    }
+
     fn centre(&self, f: &Fabric, cell: (usize, usize)) -> Option<Vec3> {
         let nodes = self.cells.get(&cell)?;
         if nodes.len() != 4 {

@@ -32,7 +32,9 @@ pub mod crossing_angles;
 pub mod eil_constraints;
 pub mod end_stops;
 pub mod friction_springs;
+pub mod mass_damping;
 pub mod obstacle_contact;
+pub mod obstacle_friction;
 pub mod parallel_yarns;
 pub mod rod_segments;
 pub mod segment_weight;
@@ -71,14 +73,16 @@ pub type Family = fn(&TermInputs) -> Vec<Box<dyn AnyStencilSet>>;
 
 /// Every term family, in assembly order (see the module docs).
 pub const FAMILIES: &[Family] = &[
-    rod_segments::build,     // stretch, bending, inertia
-    segment_weight::build,   // gravity
-    eil_constraints::build,  // EIL-to-point and EIL-to-EIL springs
-    friction_springs::build, // capped springs on contact `u`
-    crossing_angles::build,  // wrapping, shear
-    parallel_yarns::build,   // parallel-yarn contact
-    end_stops::build,        // secured yarn ends
-    obstacle_contact::build, // scene obstacles
+    rod_segments::build,      // stretch, bending, inertia
+    segment_weight::build,    // gravity
+    eil_constraints::build,   // EIL-to-point and EIL-to-EIL springs
+    friction_springs::build,  // capped springs on contact `u`
+    crossing_angles::build,   // wrapping, shear
+    parallel_yarns::build,    // parallel-yarn contact
+    end_stops::build,         // secured yarn ends
+    obstacle_contact::build,  // scene obstacles
+    obstacle_friction::build, // friction against obstacles (dynamics)
+    mass_damping::build,      // mass-proportional damping (dynamics)
 ];
 
 /// All stencil sets of a step. Terms that are off, or have no instance in

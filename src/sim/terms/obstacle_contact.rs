@@ -25,22 +25,13 @@ pub(super) fn obstacle_terms(
     radii: &[f64],
 ) -> (Vec<ObstaclePenalty>, Vec<[u32; 3]>) {
     let (f, l) = (disc.f, disc.l);
-    let mut node_radius = vec![0.0f64; f.nodes.len()];
-    for (y, yarn) in f.yarns.iter().enumerate() {
-        for pt in &yarn.points {
-            node_radius[pt.node] = node_radius[pt.node].max(radii[y]);
-        }
-    }
+    let node_radius = node_thickness(disc, p, radii);
     let (mut t, mut d) = (vec![], vec![]);
     for (n, node) in f.nodes.iter().enumerate() {
         if node.pinned {
             continue;
         }
-        let thickness = if node_radius[n] > 0.0 {
-            node_radius[n]
-        } else {
-            p.rod.radius
-        };
+        let thickness = node_radius[n];
         for s in &p.obstacles {
             t.push(ObstaclePenalty {
                 shape: s.clone(),
@@ -52,4 +43,22 @@ pub(super) fn obstacle_terms(
         }
     }
     (t, d)
+}
+
+/// The clearance each node keeps from obstacles: the radius of its
+/// thickest yarn (`rod.radius` for a node on no yarn).
+pub(crate) fn node_thickness(disc: &Discretization, p: &SimParams, radii: &[f64]) -> Vec<f64> {
+    let f = disc.f;
+    let mut node_radius = vec![0.0f64; f.nodes.len()];
+    for (y, yarn) in f.yarns.iter().enumerate() {
+        for pt in &yarn.points {
+            node_radius[pt.node] = node_radius[pt.node].max(radii[y]);
+        }
+    }
+    for r in &mut node_radius {
+        if *r <= 0.0 {
+            *r = p.rod.radius;
+        }
+    }
+    node_radius
 }

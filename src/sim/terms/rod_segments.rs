@@ -43,7 +43,7 @@ pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
 
 /// The `[x_a, u_a, x_b, u_b]` dofs of every segment between consecutive
 /// real points of yarn `y`.
-pub(super) fn segment_dofs<'a>(
+pub(crate) fn segment_dofs<'a>(
     disc: &'a Discretization<'a>,
     y: usize,
     real: &'a [usize],

@@ -1,0 +1,50 @@
+//! Friction between yarn nodes and scene obstacles (docs/MODEL.md,
+//! "Obstacle friction"): one lagged, smoothed Coulomb stencil
+//! (`rod::obstacle_friction`) per node that touches an obstacle at the
+//! step's start, with the normal force of the obstacle penalty there.
+//!
+//! Built only in a step with a time step and with
+//! `dynamics.obstacle_mu > 0`; a scene without obstacles or friction pays
+//! nothing. The step's coordinates `q` are those of its start, so the
+//! contact normal, the normal force and the start position all come from
+//! `TermInputs::q`.
+
+use super::obstacle_contact::node_thickness;
+use super::{set, TermInputs};
+use crate::rod::obstacle_friction::ObstacleFriction;
+use crate::solver::assembly::AnyStencilSet;
+use nalgebra::Vector3;
+
+/// The `obstacle friction` set.
+pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
+    let p = t.params;
+    let mu = p.dynamics.obstacle_mu;
+    let Some((h, _)) = t.step.inertia else {
+        return Vec::new();
+    };
+    if p.obstacles.is_empty() || mu <= 0.0 {
+        return Vec::new();
+    }
+    let eps = p.dynamics.friction_speed * h;
+    let thickness = node_thickness(t.disc, p, &t.radii);
+    let (f, l) = (t.disc.f, t.disc.l);
+    let (mut st, mut sd) = (vec![], vec![]);
+    for (n, node) in f.nodes.iter().enumerate() {
+        if node.pinned {
+            continue;
+        }
+        let i = l.x(n);
+        let x0 = Vector3::new(t.q[i], t.q[i + 1], t.q[i + 2]);
+        for shape in &p.obstacles {
+            let (s, normal, _) = shape.sdf(&x0);
+            let pen = thickness[n] - s;
+            if pen > 0.0 {
+                let lambda = p.obstacle_stiffness * pen;
+                st.push(ObstacleFriction::new(mu * lambda, eps, x0, normal));
+                let x = i as u32;
+                sd.push([x, x + 1, x + 2]);
+            }
+        }
+    }
+    vec![set("obstacle friction", st, sd)]
+}
