@@ -60,6 +60,13 @@ pub struct DynamicsParams {
     pub newton_tol: f64,
     /// Newton iterations per attempt before the step is retried at half `dt`.
     pub newton_max_iterations: usize,
+    /// Let yarn slide through its contacts at the Coulomb limit. Off by
+    /// default: contacts stick, as while relaxing (`Schedule::stick`). A
+    /// relaxed swatch is an equilibrium of sticking contacts whose
+    /// tangential loads may exceed `mu` times their normal load; released
+    /// to slide at the first step, such a swatch snaps instead of falling.
+    #[serde(default)]
+    pub sliding: bool,
     /// Pinned node sets (their coordinates are not unknowns).
     pub pins: Vec<PinSelector>,
     /// Prescribed motions of pin sets.
@@ -81,6 +88,7 @@ impl Default for DynamicsParams {
             rest_time: 0.05,
             newton_tol: 1e-2,
             newton_max_iterations: 50,
+            sliding: false,
             pins: Vec::new(),
             motions: Vec::new(),
         }

@@ -73,6 +73,9 @@ pub struct RelaxOptions {
     /// relaxing. Off by default: contacts stick (`Schedule::stick`), see
     /// the module docs.
     pub sliding: bool,
+    /// Newton with the exact Hessian and a projected fallback
+    /// (`NewtonParams::exact_hessian`); `false`: projected throughout.
+    pub exact_hessian: bool,
 }
 
 impl Default for RelaxOptions {
@@ -86,6 +89,7 @@ impl Default for RelaxOptions {
             newton_rel_tol: 1e-6,
             keep_eil: false,
             sliding: false,
+            exact_hessian: true,
         }
     }
 }
@@ -175,6 +179,6 @@ pub fn schedule(sim: &Simulation, opts: &RelaxOptions) -> Schedule {
     // No gap is ever wide enough: `assign_after` keeps every EIL point.
     s.keep_eil = opts.keep_eil;
     s.stick = !opts.sliding;
-    s.newton.exact_hessian = true;
+    s.newton.exact_hessian = opts.exact_hessian;
     s
 }

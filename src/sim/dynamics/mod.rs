@@ -104,6 +104,7 @@ pub fn schedule(sim: &Simulation, d: &DynamicsParams) -> Schedule {
     s.h_max = d.max_dt.unwrap_or(d.dt).max(d.dt);
     s.newton.max_iterations = d.newton_max_iterations;
     s.newton.max_force_tol = newton_force_tol(sim);
+    s.stick = !d.sliding;
     s
 }
 
