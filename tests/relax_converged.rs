@@ -83,7 +83,7 @@ fn body_extent(x: &[Vec3]) -> [f64; 3] {
         .fold(Matrix3::zeros(), |m, p| m + (p - c) * (p - c).transpose());
     let axes = SymmetricEigen::new(cov).eigenvectors;
     let mut extent = [0.0; 3];
-    for k in 0..3 {
+    for (k, e) in extent.iter_mut().enumerate() {
         let lab = Vec3::ith(k, 1.0);
         let best = (0..3)
             .max_by(|&a, &b| {
@@ -98,7 +98,7 @@ fn body_extent(x: &[Vec3]) -> [f64; 3] {
             let t = (p - c).dot(&axis);
             (lo.min(t), hi.max(t))
         });
-        extent[k] = hi - lo;
+        *e = hi - lo;
     }
     extent
 }
