@@ -33,7 +33,14 @@ fn measured(gauge: &str) -> (f64, f64) {
         LinearSolver::direct(),
         RelaxOptions::default().h_initial,
     );
-    let report = relax(&mut sim, RelaxOptions::default(), None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
+    // The gauge is counted in the middle of the swatch, which has settled
+    // long before the edge roll that the last decades of the default
+    // tolerance finish (docs/RELAX.md, "What the default tolerance means").
+    let opts = RelaxOptions {
+        tol: 0.1,
+        ..RelaxOptions::default()
+    };
+    let report = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
     assert!(report.converged, "{report:?}");
     let g = grid
         .measure(&sim.snapshot())
