@@ -23,6 +23,7 @@ use knitsim::app::study::load_resized;
 use knitsim::scene::params_for;
 use knitsim::sim::{relax, RelaxOptions, Simulation};
 use knitsim::solver::linear::LinearSolver;
+use knitsim::topology::jitter::jitter;
 use knitsim::topology::{CompileOptions, Fabric, Vec3};
 use nalgebra::{Matrix3, SymmetricEigen};
 use std::path::Path;
@@ -36,24 +37,6 @@ struct Relaxed {
 fn fabric(stem: &str, n: usize) -> Fabric {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("patterns/{stem}.knit"));
     load_resized(&path, Some(n), &CompileOptions::default()).unwrap().0
-}
-
-/// Moves every compiled node by at most 1 nm per coordinate (splitmix64).
-fn jitter(f: &mut Fabric, seed: u64) {
-    let mut state = seed;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    for node in &mut f.nodes {
-        for k in 0..3 {
-            node.x[k] += 1e-9 * next();
-        }
-    }
 }
 
 fn relaxed(fabric: Fabric, opts: RelaxOptions) -> Relaxed {

@@ -31,6 +31,7 @@ pub mod clearance;
 pub mod error;
 pub mod fabric;
 pub mod geometry;
+pub mod jitter;
 pub mod knit_graph;
 pub mod layout;
 pub mod measure;

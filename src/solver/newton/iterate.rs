@@ -72,11 +72,8 @@ pub fn minimize<P: Problem + ?Sized>(
         }
         let assembly_start = Instant::now();
         problem.set_projection(!params.exact_hessian);
-        problem.gradient_hessian(q, &mut w.g, &mut h)?;
+        assemble_free(problem, q, &free, &mut w.g, &mut h)?;
         let assembly_s = assembly_start.elapsed().as_secs_f64();
-        for (gi, _) in w.g.iter_mut().zip(&free).filter(|(_, &f)| !f) {
-            *gi = 0.0;
-        }
         let full_sq = dot(&w.g, &w.g);
         if !full_sq.is_finite() {
             return Err(NewtonError::NonFiniteGradient(iteration));
@@ -140,10 +137,7 @@ pub fn minimize<P: Problem + ?Sized>(
                 // again with the projected one (module docs).
                 let reassembly = Instant::now();
                 problem.set_projection(true);
-                problem.gradient_hessian(q, &mut w.g, &mut h)?;
-                for (gi, _) in w.g.iter_mut().zip(&free).filter(|(_, &f)| !f) {
-                    *gi = 0.0;
-                }
+                assemble_free(problem, q, &free, &mut w.g, &mut h)?;
                 w.bounds.hold(q, &free, &mut w.g, &mut h);
                 add_damping(&mut h, &diag_slots, damping);
                 stats.assembly_s += reassembly.elapsed().as_secs_f64();
@@ -190,6 +184,22 @@ pub fn minimize<P: Problem + ?Sized>(
         history,
         energy,
     })
+}
+
+/// The gradient and Hessian at `q`, the gradient zeroed on the coordinates
+/// that are not free.
+fn assemble_free<P: Problem + ?Sized>(
+    problem: &mut P,
+    q: &[f64],
+    free: &[bool],
+    g: &mut [f64],
+    h: &mut CsrMatrix,
+) -> Result<(), NewtonError> {
+    problem.gradient_hessian(q, g, h)?;
+    for (gi, _) in g.iter_mut().zip(free).filter(|(_, &f)| !f) {
+        *gi = 0.0;
+    }
+    Ok(())
 }
 
 /// Adds `rel * mean(|H_ii|)` to the free diagonal entries.
