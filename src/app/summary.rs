@@ -39,7 +39,10 @@ pub struct Summary {
     /// The gauge the relaxed state measures in its middle; `None` for
     /// fabrics without a stitch grid (in the round, not from a pattern).
     pub measured_gauge: Option<MeasuredGauge>,
-    /// Bounding box of the relaxed state (mm): width, height, depth.
+    /// Finished size (mm): width along the courses, height along the
+    /// wales, depth across the fabric (`StitchGrid::extents`), so a swatch
+    /// that turned in space measures as it would laid square; the lab
+    /// frame's bounding box for fabrics without a stitch grid.
     pub finished_size_mm: [f64; 3],
     pub converged: bool,
     pub cancelled: bool,
@@ -73,7 +76,7 @@ impl Summary {
             pattern: state.meta.name.clone(),
             declared_gauge: state.meta.gauge,
             measured_gauge: grid.measure(state),
-            finished_size_mm: extents(state).map(|e| e * 1e3),
+            finished_size_mm: grid.extents(state).unwrap_or_else(|| extents(state)).map(|e| e * 1e3),
             converged: r.converged,
             cancelled: r.cancelled,
             stopping_quantity: r.residual,

@@ -160,11 +160,67 @@ impl StitchGrid {
     }
 }
 
+impl StitchGrid {
+    /// The swatch's own frame in `state`: the course direction (summed
+    /// interlock-to-right-neighbour vectors), the wale direction
+    /// (interlock-to-upper-neighbour, made orthogonal to the course) and
+    /// the fabric normal. `None` without a grid, or where the sums vanish.
+    pub fn frame(&self, state: &Fabric) -> Option<[Vec3; 3]> {
+        if self.rows < 2 || self.cols < 2 || self.cells.values().flatten().any(|&n| n >= state.nodes.len()) {
+            return None;
+        }
+        let (mut course, mut wale) = (Vec3::zeros(), Vec3::zeros());
+        for &(r, c) in self.cells.keys() {
+            let Some(here) = self.centre(state, (r, c)) else {
+                continue;
+            };
+            if let Some(right) = self.centre(state, (r, c + 1)) {
+                course += right - here;
+            }
+            if let Some(up) = self.centre(state, (r + 1, c)) {
+                wale += up - here;
+            }
+        }
+        let e1 = course.try_normalize(1e-300)?;
+        let e2 = (wale - wale.dot(&e1) * e1).try_normalize(1e-300)?;
+        let frame = [e1, e2, e1.cross(&e2)];
+        frame.iter().all(|e| e.iter().all(|v| v.is_finite())).then_some(frame)
+    }
+
+    /// The finished size of `state` (m): the extents of every node along
+    /// the swatch's own frame ([`StitchGrid::frame`]), i.e. width along the
+    /// courses, height along the wales and depth across the fabric, as the
+    /// swatch measures laid square on a table whichever way it has turned
+    /// in space. `None` where there is no frame.
+    pub fn extents(&self, state: &Fabric) -> Option<[f64; 3]> {
+        let frame = self.frame(state)?;
+        Some(frame.map(|axis| {
+            let (lo, hi) = state
+                .nodes
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), n| {
+                    let t = n.x.dot(&axis);
+                    (lo.min(t), hi.max(t))
+                });
+            (hi - lo).max(0.0)
+        }))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::pattern::parse_str;
     use crate::topology::{compile, CompileOptions};
+
+    fn lab_extents(f: &Fabric) -> [f64; 3] {
+        [0, 1, 2].map(|k| {
+            let (lo, hi) = f.nodes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), n| {
+                (lo.min(n.x[k]), hi.max(n.x[k]))
+            });
+            hi - lo
+        })
+    }
 
     fn stockinette(w: usize, h: usize) -> Fabric {
         let text = format!(
@@ -181,6 +237,29 @@ mod tests {
         // Rows 1..=5 interlock with their parents; 6 columns.
         assert_eq!(g.size(), (5, 6));
         assert!(g.cells.values().all(|n| n.len() == 4));
+    }
+
+    #[test]
+    fn the_finished_size_does_not_turn_with_the_swatch() {
+        let f = stockinette(8, 6);
+        let g = StitchGrid::of(&f);
+        let flat = g.extents(&f).expect("frame");
+        let lab = lab_extents(&f);
+        for k in 0..3 {
+            assert!((flat[k] - lab[k]).abs() < 1e-12, "axis {k}: {flat:?} vs {lab:?}");
+        }
+        // Turned 30 degrees about z and 50 about x: the lab box changes,
+        // the size along courses, wales and normal does not.
+        let rot = nalgebra::Rotation3::from_euler_angles(50f64.to_radians(), 0.0, 30f64.to_radians());
+        let mut turned = f.clone();
+        for n in &mut turned.nodes {
+            n.x = rot * n.x + Vec3::new(0.3, -0.2, 0.1);
+        }
+        let size = g.extents(&turned).expect("frame");
+        for k in 0..3 {
+            assert!((size[k] - flat[k]).abs() < 1e-12, "axis {k}: {size:?} vs {flat:?}");
+        }
+        assert!((lab_extents(&turned)[0] - flat[0]).abs() > 1e-3);
     }
 
     #[test]

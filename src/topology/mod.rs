@@ -26,6 +26,7 @@
 //! The cast-on (row 0) is one pass of plain loops in the yarn that starts
 //! row 1. Loops left on the needles after the last row stay open.
 
+pub mod align;
 pub mod assemble;
 pub mod clearance;
 pub mod error;

@@ -11,12 +11,20 @@
 //! interpolated positions, `Fabric::point_position`). The RMS over all
 //! samples, in yarn radii, is the shape error.
 //!
-//! The shape of the swatch as a whole is measured by the bounding box of the
-//! yarn centre lines: width (x), height (y) and out-of-plane depth (z), each
-//! as a signed percentage of the reference's extent. The energy error is
-//! the signed relative difference of the total potential energies.
+//! Distances are taken after the best rigid fit of the run's samples onto
+//! the reference's (`topology::align`): a free swatch may turn or drift
+//! while it relaxes, and where it ends up in space is not part of its
+//! shape.
+//!
+//! The shape of the swatch as a whole is measured by its extents along its
+//! own frame (`StitchGrid::extents`: width along the courses, height along
+//! the wales, depth across the fabric; the lab bounding box for fabrics
+//! without a stitch grid), each as a signed percentage of the reference's
+//! extent. The energy error is the signed relative difference of the total
+//! potential energies.
 
-use crate::topology::{Fabric, PointRef, Vec3};
+use crate::topology::align::RigidFit;
+use crate::topology::{Fabric, PointRef, StitchGrid, Vec3};
 
 /// Material coordinates at which each yarn is sampled, yarn by yarn.
 #[derive(Clone, Debug, PartialEq)]
@@ -98,14 +106,16 @@ fn position_at(line: &[(f64, Vec3)], u: f64) -> Vec3 {
     }
 }
 
-/// RMS distance between `a` and `b` over the material samples, each
+/// RMS distance between `a` and `b` over the material samples, after the
+/// best rigid fit of `a`'s samples onto `b`'s (a free swatch's place and
+/// orientation are not part of its answer; `topology::align`), each
 /// distance in units of its yarn's radius (`meta.yarns[spec].radius` of
 /// `b`, the reference).
 pub fn rms_radii(a: &Fabric, b: &Fabric, samples: &MaterialSamples) -> Result<f64, CompareError> {
     if a.yarns.len() != b.yarns.len() || samples.u.len() != b.yarns.len() {
         return Err(CompareError::YarnCount(a.yarns.len(), b.yarns.len()));
     }
-    let (mut sum, mut count) = (0.0, 0usize);
+    let (mut pa, mut pb, mut radii) = (Vec::new(), Vec::new(), Vec::new());
     for (yi, us) in samples.u.iter().enumerate() {
         if us.is_empty() {
             continue;
@@ -116,15 +126,22 @@ pub fn rms_radii(a: &Fabric, b: &Fabric, samples: &MaterialSamples) -> Result<f6
         }
         let radius = b.meta.yarns[b.yarns[yi].spec].radius;
         for &u in us {
-            let d = (position_at(&la, u) - position_at(&lb, u)).norm() / radius;
-            sum += d * d;
-            count += 1;
+            pa.push(position_at(&la, u));
+            pb.push(position_at(&lb, u));
+            radii.push(radius);
         }
     }
-    if count == 0 {
+    if pa.is_empty() {
         return Err(CompareError::NoSamples);
     }
-    Ok((sum / count as f64).sqrt())
+    let fit = RigidFit::of(&pa, &pb);
+    let sum: f64 = pa
+        .iter()
+        .zip(&pb)
+        .zip(&radii)
+        .map(|((p, q), r)| ((fit.apply(p) - q).norm() / r).powi(2))
+        .sum();
+    Ok((sum / pa.len() as f64).sqrt())
 }
 
 /// Extents (x, y, z) of the bounding box of every yarn point's position.
@@ -176,9 +193,12 @@ pub struct Measured {
 }
 
 impl Measured {
-    pub fn new(fabric: Fabric, energy: f64) -> Self {
+    /// `grid` is the compiled fabric's stitch grid: the extents are taken
+    /// along the swatch's own frame where it has one (`StitchGrid::extents`),
+    /// the lab bounding box otherwise.
+    pub fn new(fabric: Fabric, energy: f64, grid: &StitchGrid) -> Self {
         Measured {
-            extents: extents(&fabric),
+            extents: grid.extents(&fabric).unwrap_or_else(|| extents(&fabric)),
             fabric,
             energy,
         }
@@ -230,7 +250,8 @@ mod tests {
         let f = fabric();
         let samples = MaterialSamples::of(&f, 8);
         assert_eq!(samples.len(), (8 * 4 + 1) + (8 * 2 + 1));
-        assert_eq!(rms_radii(&f, &f.clone(), &samples).unwrap(), 0.0);
+        // Zero up to the rounding of the rigid fit's SVD.
+        assert!(rms_radii(&f, &f.clone(), &samples).unwrap() < 1e-12);
     }
 
     #[test]
@@ -261,15 +282,16 @@ mod tests {
     }
 
     #[test]
-    fn rigid_translation_is_its_distance_in_radii() {
+    fn a_rigid_motion_is_no_error() {
         let reference = fabric();
         let mut moved = reference.clone();
+        let turn = nalgebra::Rotation3::from_euler_angles(0.3, -0.2, 1.1);
         let d = Vec3::new(0.3 * MM, -0.4 * MM, 1.2 * MM);
         for n in &mut moved.nodes {
-            n.x += d;
+            n.x = turn * n.x + d;
         }
         let rms = rms_radii(&moved, &reference, &MaterialSamples::of(&reference, 8)).unwrap();
-        assert!((rms - d.norm() / RADIUS).abs() < 1e-9, "rms {rms}");
+        assert!(rms < 1e-9, "rms {rms}");
     }
 
     #[test]
@@ -287,12 +309,12 @@ mod tests {
 
     #[test]
     fn extents_and_errors_are_signed_against_the_reference() {
-        let reference = Measured::new(fabric(), -2.0);
+        let reference = Measured::new(fabric(), -2.0, &StitchGrid::default());
         assert_eq!(reference.extents, [4.0 * MM, 3.0 * MM, 0.5 * MM]);
         let mut wider = reference.fabric.clone();
         let last = wider.yarns[0].points[4].node;
         wider.nodes[last].x.x = 5.0 * MM;
-        let run = Measured::new(wider, -1.0);
+        let run = Measured::new(wider, -1.0, &StitchGrid::default());
         let e = run
             .errors(&reference, &MaterialSamples::of(&reference.fabric, 4))
             .unwrap();

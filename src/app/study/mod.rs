@@ -30,7 +30,7 @@ pub use setup::{load_resized, machine_description, resize_text, StudyConfig, Stu
 
 use crate::sim::{relax, RelaxOptions, SimError, SimParams, Simulation};
 use crate::solver::linear::{select, AutoParams, LinearSolver, SolverChoice};
-use crate::topology::Fabric;
+use crate::topology::{Fabric, StitchGrid};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -229,7 +229,7 @@ fn relax_once(
         return Ok(None);
     }
     let energy = potential_energy(&sim)?;
-    let state = Measured::new(sim.snapshot(), energy);
+    let state = Measured::new(sim.snapshot(), energy, &StitchGrid::of(fabric));
     let record = RunRecord {
         solver: solver_name(solver).to_string(),
         eil,
