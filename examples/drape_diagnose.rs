@@ -8,7 +8,7 @@
 //! Switches (environment variables, set to anything): `DIAG_NO_CONTACT`,
 //! `DIAG_SPLIT` (split bending Hessian), `DIAG_NO_FRICTION`,
 //! `DIAG_NO_WRAP`, `DIAG_NO_SHEAR`, `DIAG_NO_PARALLEL`, `DIAG_NO_GRAVITY`,
-//! `DIAG_NO_EIL`, `DIAG_KEEP_EIL`; `DIAG_TOL=x` sets `dynamics.newton_tol`
+//! `DIAG_NO_EIL`, `DIAG_KEEP_EIL`, `DIAG_PROJECTED` (projected Hessian throughout); `DIAG_TOL=x` sets `dynamics.newton_tol`
 //! and `DIAG_ITS=n` `dynamics.newton_max_iterations`. docs/MODEL.md,
 //! "Dynamics", quotes what they showed.
 
@@ -65,6 +65,7 @@ fn main() {
     let mut sim = Simulation::new(relaxed, p.clone(), LinearSolver::direct(), p.dynamics.dt);
     let mut s = schedule(&sim, &p.dynamics);
     s.keep_eil = std::env::var_os("DIAG_KEEP_EIL").is_some();
+    s.newton.exact_hessian = std::env::var_os("DIAG_PROJECTED").is_none();
     eprintln!("force tolerance {:.3e} N", s.newton.max_force_tol);
     for k in 0..steps {
         let t = std::time::Instant::now();

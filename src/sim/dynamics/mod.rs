@@ -94,8 +94,9 @@ pub fn newton_force_tol(sim: &Simulation) -> f64 {
     p.dynamics.newton_tol * p.rod.rho * seg * g
 }
 
-/// The schedule of a dynamic run: `dt` growing to `max_dt`, Newton to
-/// [`newton_force_tol`] within `newton_max_iterations`.
+/// The schedule of a dynamic run: `dt` growing to `max_dt`, Newton with
+/// the exact Hessian (projected fallback) to [`newton_force_tol`] within
+/// `newton_max_iterations`.
 pub fn schedule(sim: &Simulation, d: &DynamicsParams) -> Schedule {
     let mut s = Schedule {
         newton: sim.schedule().newton,
@@ -103,6 +104,10 @@ pub fn schedule(sim: &Simulation, d: &DynamicsParams) -> Schedule {
     };
     s.h_max = d.max_dt.unwrap_or(d.dt).max(d.dt);
     s.newton.max_iterations = d.newton_max_iterations;
+    // The exact Hessian, as in relaxation: with the projected one the
+    // steps of a falling swatch collapsed to microseconds (docs/MODEL.md,
+    // "Dynamics").
+    s.newton.exact_hessian = true;
     s.newton.max_force_tol = newton_force_tol(sim);
     s.stick = !d.sliding;
     s
