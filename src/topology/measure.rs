@@ -15,6 +15,12 @@
 //! - wale spacing: centre of `(row, col)` to centre of `(row, col + 1)`;
 //! - course spacing: centre of `(row, col)` to centre of `(row + 1, col)`.
 //!
+//! A slipped or tucked stitch leaves its cell empty (its loop is carried
+//! up, unworked), so the linen stitch's grid is a checkerboard. Where the
+//! neighbour is missing, the next present cell up to [`MAX_GAP`] cells
+//! away is used and the distance divided by the cells crossed, as a
+//! knitter counts a slip-stitch fabric over several stitches.
+//!
 //! Distances are straight-line in 3D, so a curled swatch still measures
 //! the length of fabric per stitch, as a knitter's tape laid along it
 //! does. Patterns knitted in the round, or whose interlocks do not fill a
@@ -23,6 +29,10 @@
 use super::fabric::{ContactKind, Fabric, Vec3};
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// How many cells a neighbour may lie away along a row or a column
+/// (slipped and tucked stitches leave empty cells between).
+pub const MAX_GAP: usize = 3;
 
 /// What a swatch measures.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -133,15 +143,15 @@ impl StitchGrid {
                 let Some(here) = self.centre(state, (r, c)) else {
                     continue;
                 };
-                if c + 1 < cols.end {
-                    if let Some(right) = self.centre(state, (r, c + 1)) {
-                        wale = (wale.0 + (right - here).norm(), wale.1 + 1);
-                    }
+                let right = (1..=MAX_GAP)
+                    .find_map(|k| (c + k < cols.end).then(|| self.centre(state, (r, c + k)).map(|x| (x, k)))?);
+                if let Some((right, k)) = right {
+                    wale = (wale.0 + (right - here).norm() / k as f64, wale.1 + 1);
                 }
-                if r + 1 < rows.end {
-                    if let Some(up) = self.centre(state, (r + 1, c)) {
-                        course = (course.0 + (up - here).norm(), course.1 + 1);
-                    }
+                let up = (1..=MAX_GAP)
+                    .find_map(|k| (r + k < rows.end).then(|| self.centre(state, (r + k, c)).map(|x| (x, k)))?);
+                if let Some((up, k)) = up {
+                    course = (course.0 + (up - here).norm() / k as f64, course.1 + 1);
                 }
             }
         }
@@ -260,6 +270,25 @@ mod tests {
             assert!((size[k] - flat[k]).abs() < 1e-12, "axis {k}: {size:?} vs {flat:?}");
         }
         assert!((lab_extents(&turned)[0] - flat[0]).abs() > 1e-3);
+    }
+
+    #[test]
+    fn a_slip_stitch_checkerboard_is_measured_across_its_gaps() {
+        let text = "name: l\ngauge: 20 sts x 25 rows / 10 cm\nyarn MC: #ffffff, radius 0.5 mm\nwidth: 10\nheight: 10\n\nlegend:\n  . = knit\n  v = slip wyif\n\nchart:\n  . [v .] .\n  . [. v] .\n";
+        let p = parse_str(text, "l.knit").expect("pattern");
+        let linen = compile(&p.pattern, &CompileOptions::default()).expect("compile");
+        let g = StitchGrid::of(&linen);
+        let (rows, cols) = g.size();
+        let empty = (0..rows)
+            .flat_map(|r| (0..cols).map(move |c| (r, c)))
+            .filter(|&(r, c)| g.cell(r, c).is_empty());
+        assert!(empty.count() > rows * cols / 4, "slips leave empty cells");
+        let linen_gauge = g.measure(&linen).expect("a checkerboard is measurable");
+        let plain = stockinette(10, 10);
+        let plain_gauge = StitchGrid::of(&plain).measure(&plain).expect("gauge");
+        // Both are compiled on the pitch of the same gauge line.
+        assert!((linen_gauge.wale_spacing - plain_gauge.wale_spacing).abs() < 1e-3 * plain_gauge.wale_spacing);
+        assert!((linen_gauge.course_spacing - plain_gauge.course_spacing).abs() < 1e-3 * plain_gauge.course_spacing);
     }
 
     #[test]
