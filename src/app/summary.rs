@@ -12,6 +12,7 @@ use super::checks::StateChecks;
 use crate::io::{write_atomic, IoError};
 use crate::pattern::Gauge;
 use crate::sim::{ForceScale, RelaxReport};
+use crate::solver::assembly::timing::TermTimes;
 use crate::topology::{Fabric, MeasuredGauge, StitchGrid};
 use serde::Serialize;
 use std::io::Write;
@@ -60,6 +61,8 @@ pub struct Summary {
     /// infinite coordinates, overlapping (crossed) segment pairs, largest
     /// axial strain.
     pub checks: StateChecks,
+    /// Seconds per stencil set (the active terms) and in the linear solver.
+    pub term_seconds: TermTimes,
 }
 
 impl Summary {
@@ -87,6 +90,7 @@ impl Summary {
             newton_iterations: r.newton_iterations,
             wall_s,
             checks,
+            term_seconds: r.term_seconds.clone(),
         }
     }
 

@@ -500,6 +500,7 @@ fn relax(
         r.max_eil,
         out.display()
     );
+    println!("{}", r.term_seconds.shares_line(outcome.wall_s));
     if outcome.slid_off_contacts > 0 {
         println!(
             "{} contact(s) removed: a yarn was pulled out of them (scene key remove_slid_off)",
@@ -617,6 +618,7 @@ fn drape(
         s.frames,
         out.join("drape.pvd").display()
     );
+    println!("{}", s.term_seconds.shares_line(s.wall_s - s.relax_wall_s));
     if s.min_obstacle_clearance.is_finite() {
         println!(
             "closest approach to an obstacle: {:.2} yarn radii (1 = touching)",

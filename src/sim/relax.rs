@@ -45,6 +45,7 @@
 use super::force_scale::ForceScale;
 use super::schedule::Schedule;
 use super::stepper::{SimError, Simulation};
+use crate::solver::assembly::timing::TermTimes;
 use crate::solver::newton::IterStats;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -108,6 +109,8 @@ pub struct RelaxReport {
     pub max_eil: usize,
     /// Steps that ended early at a closed segment (`sim::problem::tripwire`).
     pub closed_segment_steps: usize,
+    /// Seconds per stencil set (the active terms) and in the linear solver.
+    pub term_seconds: TermTimes,
 }
 
 /// Relaxes `sim` in place. `on_iter` sees every Newton iteration with the
@@ -136,6 +139,7 @@ pub fn relax(
         cancelled: false,
         max_eil: 0,
         closed_segment_steps: 0,
+        term_seconds: TermTimes::default(),
     };
     while rep.steps < opts.max_steps {
         if rep.residual <= opts.tol {
@@ -151,6 +155,7 @@ pub fn relax(
         rep.newton_iterations += s.newton_iterations;
         rep.max_eil = rep.max_eil.max(s.eil_count);
         rep.closed_segment_steps += usize::from(s.closed_segment);
+        rep.term_seconds.merge(&s.times);
         rep.residual = scale.from_ks_units(sim.static_residual()?, ks);
         on_step(rep.steps, rep.residual);
     }

@@ -29,6 +29,7 @@ use super::schedule::Schedule;
 use super::state::EolState;
 use super::terms::coulomb_limits::{coulomb_limits, update_anchors};
 use super::terms::thickness_contact::ContactState;
+use crate::solver::assembly::timing::TermTimes;
 use crate::solver::assembly::AssemblyError;
 use crate::solver::linear::LinearSolver;
 use crate::solver::newton::{IterStats, NewtonError, NewtonHooks, NewtonStatus};
@@ -55,6 +56,8 @@ pub struct StepReport {
     pub converged: bool,
     /// The step ended early because a real segment closed (`sim::problem::tripwire`).
     pub closed_segment: bool,
+    /// Seconds per stencil set and in the linear solver, retried attempts included.
+    pub times: TermTimes,
 }
 
 /// An EoL fabric being simulated: its state, parameters, linear solver and
@@ -315,6 +318,7 @@ impl Simulation {
         let eil_count = st.assignment.eil_count();
         let q0 = st.q.clone();
         let mut retries = 0;
+        let mut times = TermTimes::default();
         loop {
             let h = schedule.h;
             let pred: Vec<f64> = if dynamic {
@@ -333,6 +337,8 @@ impl Simulation {
                 on_accepted: log.as_mut().map(|f| f as &mut dyn FnMut(&[f64])),
             };
             let report = minimize(&mut problem, &mut q, &mut self.solver, &schedule.newton, hooks)?;
+            times.merge(&problem.times);
+            times.linear_solve_s += report.history.iter().map(|s| s.solve_s).sum::<f64>();
             // A relaxation step is a proximal step in pseudo time: any iterate
             // that lowered the energy is progress, so hitting the iteration cap
             // is not a failure there (dynamics must converge every step).
@@ -361,6 +367,7 @@ impl Simulation {
                     eil_count,
                     converged,
                     closed_segment: report.status == NewtonStatus::Rediscretize,
+                    times,
                 });
             }
             if let Some(l) = self.iterate_log.as_mut() {

@@ -30,11 +30,14 @@
 //! [`bind`]: AnyStencilSet::bind
 
 mod slots;
+pub mod timing;
 
 use crate::energy::{Derivatives, Stencil};
 use crate::parallel::{ordered_map, threads};
 use crate::sparse::CsrMatrix;
 use nalgebra::SVector;
+use std::time::Instant;
+use timing::TermTimes;
 
 /// Stencils per block of the parallel evaluation: small enough that the
 /// threads share uneven work (PSD projections run only for indefinite
@@ -377,6 +380,17 @@ pub fn total_energy(sets: &[Box<dyn AnyStencilSet>], q: &[f64]) -> f64 {
     sets.iter().map(|s| s.energy(q)).sum()
 }
 
+/// [`total_energy`], adding each set's time to `times`.
+pub fn total_energy_timed(sets: &[Box<dyn AnyStencilSet>], q: &[f64], times: &mut TermTimes) -> f64 {
+    let mut e = 0.0;
+    for s in sets {
+        let start = Instant::now();
+        e += s.energy(q);
+        times.add(s.name(), start.elapsed().as_secs_f64(), s.len());
+    }
+    e
+}
+
 /// Free-row gradient of all sets at `q`, fixed rows zero: what [`assemble`]
 /// puts in `grad`, without the Hessian (no pattern or binding needed).
 pub fn gradient(sets: &[Box<dyn AnyStencilSet>], q: &[f64], free: &[bool]) -> Vec<f64> {
@@ -396,10 +410,25 @@ pub fn assemble(
     h: &mut CsrMatrix,
     project_psd: bool,
 ) -> Result<(), AssemblyError> {
+    assemble_timed(sets, q, free, grad, h, project_psd, &mut TermTimes::default())
+}
+
+/// [`assemble`], adding each set's time to `times`.
+pub fn assemble_timed(
+    sets: &[Box<dyn AnyStencilSet>],
+    q: &[f64],
+    free: &[bool],
+    grad: &mut [f64],
+    h: &mut CsrMatrix,
+    project_psd: bool,
+    times: &mut TermTimes,
+) -> Result<(), AssemblyError> {
     grad.fill(0.0);
     h.values.fill(0.0);
     for s in sets {
+        let start = Instant::now();
         s.accumulate(q, free, grad, h, project_psd)?;
+        times.add(s.name(), start.elapsed().as_secs_f64(), s.len());
     }
     cancel_fixed_rows(free, grad, h);
     Ok(())

@@ -11,6 +11,7 @@ use crate::io::{
 use crate::rod::obstacle::Shape;
 use crate::sim::dynamics::{centre_of_mass, kinetic_energy, DynamicsReport, StepRow};
 use crate::sim::{DynamicsParams, RelaxReport, SimError, Simulation};
+use crate::solver::assembly::timing::TermTimes;
 use crate::topology::Fabric;
 use nalgebra::Vector3;
 use serde::Serialize;
@@ -86,6 +87,9 @@ pub struct DrapeSummary {
     pub relax_wall_s: f64,
     /// Wall time of the whole run, relaxation included (s).
     pub wall_s: f64,
+    /// Seconds of the dynamic steps per stencil set (the active terms) and
+    /// in the linear solver.
+    pub term_seconds: TermTimes,
 }
 
 impl DrapeSummary {
@@ -127,6 +131,7 @@ impl DrapeSummary {
             relax_converged: relax.map(|r| r.converged),
             relax_wall_s,
             wall_s,
+            term_seconds: report.term_seconds.clone(),
         })
     }
 }

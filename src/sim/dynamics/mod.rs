@@ -24,6 +24,7 @@ use super::{SimError, SimParams, Simulation};
 use crate::rod::mass::segment_mass;
 use crate::sim::discretization::{gather, Discretization};
 use crate::sim::terms::rod_segments::segment_dofs;
+use crate::solver::assembly::timing::TermTimes;
 use crate::topology::Fabric;
 use serde::Serialize;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -65,6 +66,8 @@ pub struct DynamicsReport {
     /// Newton's force tolerance of every step (N).
     pub newton_force_tol: f64,
     pub max_eil: usize,
+    /// Seconds per stencil set (the active terms) and in the linear solver.
+    pub term_seconds: TermTimes,
 }
 
 /// `params` for a dynamic run: gravity on with `dynamics.gravity` (off if
@@ -190,6 +193,7 @@ pub fn run_dynamics(
         cancelled: false,
         newton_force_tol: schedule.newton.max_force_tol,
         max_eil: 0,
+        term_seconds: TermTimes::default(),
     };
     let mut rest_since: Option<f64> = None;
     while sim.time() - t0 < d.duration * (1.0 - 1e-12) {
@@ -207,6 +211,7 @@ pub fn run_dynamics(
         rep.steps += 1;
         rep.newton_iterations += s.newton_iterations;
         rep.max_eil = rep.max_eil.max(s.eil_count);
+        rep.term_seconds.merge(&s.times);
         rep.time = sim.time() - t0;
         let row = StepRow {
             step: rep.steps,

@@ -19,8 +19,9 @@ pub mod solve;
 pub mod tripwire;
 
 use crate::sim::terms::thickness_contact::{ContactTerms, CONTACT_SET};
+use crate::solver::assembly::timing::TermTimes;
 use crate::solver::assembly::{
-    assemble, bind_all, gradient, hessian_pattern, total_energy, AnyStencilSet, AssemblyError,
+    assemble_timed, bind_all, gradient, hessian_pattern, total_energy_timed, AnyStencilSet, AssemblyError,
 };
 use crate::solver::newton::Problem;
 use crate::sparse::CsrMatrix;
@@ -42,6 +43,8 @@ pub struct EolProblem {
     pub slide_stops: SlideStops,
     /// Segments whose closing ends this solve (empty: none).
     pub tripwire: Tripwire,
+    /// Seconds spent in each stencil set by the Newton solve so far.
+    pub times: TermTimes,
     /// Project each stencil's Hessian to PSD ([`Problem::set_projection`]).
     project: bool,
     pattern: CsrMatrix,
@@ -69,6 +72,7 @@ impl EolProblem {
             contact: None,
             slide_stops: SlideStops::default(),
             tripwire: Tripwire::default(),
+            times: TermTimes::default(),
             project: true,
             pattern,
         })
@@ -142,10 +146,10 @@ impl EolProblem {
 
 impl Problem for EolProblem {
     fn energy(&mut self, q: &[f64]) -> f64 {
-        total_energy(&self.sets, q)
+        total_energy_timed(&self.sets, q, &mut self.times)
     }
     fn gradient_hessian(&mut self, q: &[f64], g: &mut [f64], h: &mut CsrMatrix) -> Result<(), AssemblyError> {
-        assemble(&self.sets, q, &self.free, g, h, self.project)
+        assemble_timed(&self.sets, q, &self.free, g, h, self.project, &mut self.times)
     }
     fn set_projection(&mut self, project: bool) {
         self.project = project;
