@@ -563,7 +563,12 @@ fn drape(
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)).context("installing the Ctrl-C handler")?;
-    let duration_ms = (params.dynamics.duration * 1e3).round() as u64;
+    // Without a scene the default one sets the duration once relaxed.
+    let duration = match scene {
+        Some(_) => params.dynamics.duration,
+        None => knitsim::app::drape::scene::DEFAULT_DURATION,
+    };
+    let duration_ms = (duration * 1e3).round() as u64;
     let bar = ProgressBar::new(duration_ms);
     bar.set_style(
         ProgressStyle::with_template("{spinner} drape [{elapsed_precise}] {msg}")
