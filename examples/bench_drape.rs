@@ -5,7 +5,7 @@
 //! `cargo run --release --example bench_drape -- [PATTERN] [N] [STEPS] [DT]`
 //!
 //! Compiles the shipped pattern `PATTERN` (default `stockinette`) at
-//! `N x N` stitches (default 94, about 75,700 nodes), puts the default
+//! `N x N` stitches (default 97, 76,148 nodes), puts the default
 //! scene's sphere under it (`app::drape::scene`: gravity, friction 0.3,
 //! air drag) and runs `STEPS` backward Euler steps (default 3) of `DT`
 //! seconds (default 5e-4) with the direct solver, each solved to the
@@ -40,7 +40,7 @@ fn peak_rss_mib() -> Option<f64> {
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let name = args.get(1).cloned().unwrap_or_else(|| "stockinette".into());
-    let n: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(94);
+    let n: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(97);
     let steps: usize = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(3);
     let dt: f64 = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(5e-4);
 
