@@ -29,7 +29,7 @@ pub use error::{CompareError, Errors, MaterialSamples, Measured};
 pub use setup::{load_resized, machine_description, resize_text, StudyConfig, StudyError, DEFAULT_TOLS};
 
 use crate::sim::{relax, RelaxOptions, SimError, SimParams, Simulation};
-use crate::solver::linear::{select, AutoParams, LinearSolver, SolverChoice};
+use crate::solver::linear::{select, software_adapter, AutoParams, LinearSolver, SolverChoice};
 use crate::topology::{Fabric, StitchGrid};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -183,13 +183,20 @@ pub fn run_study(
     Ok(report)
 }
 
-/// The requested solvers that can run here; the others with the reason.
+/// The requested solvers that can run here; the others with the reason. A
+/// GPU family on a software adapter is skipped: it would not be a GPU.
 fn available_solvers(requested: &[SolverChoice], unknowns: usize) -> (Vec<SolverChoice>, Vec<String>) {
     let mut ok = Vec::new();
     let mut skipped = Vec::new();
     for &s in requested {
         match select(s, unknowns, &AutoParams::default()) {
-            Ok(_) => ok.push(s),
+            Ok(sel) => match software_adapter(&sel.solver) {
+                Some(adapter) => skipped.push(format!(
+                    "{}: the only adapter, {adapter}, is a software one, which would time these CPU cores",
+                    solver_name(s)
+                )),
+                None => ok.push(s),
+            },
             Err(e) => skipped.push(format!("{}: {e}", solver_name(s))),
         }
     }

@@ -76,6 +76,20 @@ pub fn select(choice: SolverChoice, n_dofs: usize, auto: &AutoParams) -> Result<
     }
 }
 
+/// The adapter's description when `solver` runs on a software (CPU-emulated)
+/// adapter, which times the host's cores rather than a GPU; `None` for
+/// the CPU solvers and hardware adapters.
+pub fn software_adapter(solver: &LinearSolver) -> Option<String> {
+    #[cfg(feature = "gpu")]
+    if let LinearSolver::Gpu(gpu) = solver {
+        if gpu.adapter().device_type == wgpu::DeviceType::Cpu {
+            return Some(gpu.adapter().to_string());
+        }
+    }
+    let _ = solver;
+    None
+}
+
 #[cfg(feature = "gpu")]
 fn gpu_solver() -> Result<Selection, SelectError> {
     let gpu = super::GpuSolver::with_default_adapter()?;

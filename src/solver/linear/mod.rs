@@ -22,7 +22,7 @@ pub mod gpu_solver;
 
 pub use crate::sparse::{BlockJacobi, CgResult};
 pub use cg::{pcg, CgParams};
-pub use choice::{select, AutoParams, SelectError, Selection, SolverChoice};
+pub use choice::{select, software_adapter, AutoParams, SelectError, Selection, SolverChoice};
 pub use direct::{DirectError, DirectParams, DirectSolver, FactorKind, Ordering};
 #[cfg(feature = "gpu")]
 pub use gpu_solver::{GpuLinearParams, GpuSolver};
