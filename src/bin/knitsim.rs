@@ -125,7 +125,7 @@ enum Command {
     /// Drape a pattern (or a saved topology/state): relax it, then simulate
     /// it under gravity on the scene's obstacles until it comes to rest,
     /// writing frames (drape.pvd) as it goes. Without --scene: dropped on a
-    /// sphere 0.35 swatch widths in radius.
+    /// sphere 0.35 swatch widths in radius, with friction 0.3 and air drag.
     Drape {
         input: PathBuf,
         #[arg(short, long)]

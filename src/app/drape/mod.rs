@@ -20,7 +20,7 @@
 //!
 //! With no scene the embedded default applies (`scene`): the pattern is
 //! relaxed first with the default `RelaxOptions`, then dropped onto a
-//! sphere.
+//! sphere, with friction and air drag.
 
 pub mod outputs;
 pub mod scene;
