@@ -238,6 +238,9 @@ fn drapes_over_the_default_sphere(stem: &str, size: Option<usize>) {
         frames.len()
     );
     assert!(hang >= 0.25 * flat, "hangs {hang} mm of {flat} mm");
+    let checks = &summary["checks"];
+    assert_eq!(checks["non_finite"].as_u64(), Some(0), "{checks}");
+    assert_eq!(checks["overlaps"].as_u64(), Some(0), "the draped yarns cross: {checks}");
     let sphere = &summary["obstacles"][0];
     let c: Vec<f64> = sphere["center"]
         .as_array()

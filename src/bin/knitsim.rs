@@ -529,12 +529,7 @@ fn relax(
             ("NOT converged".to_string(), EXIT_NOT_CONVERGED)
         }
     };
-    println!(
-        "state checks: {} NaN/inf, {} overlapping segment pairs, largest axial strain {:.2}%",
-        c.non_finite,
-        c.overlaps,
-        100.0 * c.max_strain
-    );
+    println!("state checks: {c}");
     if c.overlaps > 0 && outcome.status != RunStatus::Stopped && !contact_on {
         println!(
             "{} segment pair(s) overlap: thickness contact is off, so yarns may pass through each \
@@ -630,6 +625,7 @@ fn drape(
             s.min_obstacle_clearance
         );
     }
+    println!("state checks: {}", s.checks);
     let [w, h, d] = s.final_size_mm;
     let (state, code) = if s.cancelled {
         ("stopped by user", EXIT_STOPPED)

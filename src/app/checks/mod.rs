@@ -73,6 +73,19 @@ pub struct StateChecks {
     pub min_gap_ratio: f64,
 }
 
+impl std::fmt::Display for StateChecks {
+    /// The run log's line: `0 NaN/inf, 0 overlapping segment pairs, largest axial strain 0.05%`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} NaN/inf, {} overlapping segment pairs, largest axial strain {:.2}%",
+            self.non_finite,
+            self.overlaps,
+            100.0 * self.max_strain
+        )
+    }
+}
+
 /// Why a state is rejected.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Rejection {

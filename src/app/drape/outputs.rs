@@ -3,6 +3,7 @@
 //! `summary.json`; and the obstacle clearance it reports.
 
 use super::scene::obstacle_triangles;
+use crate::app::checks::{check_state, Limits, StateChecks};
 use crate::app::summary::extents;
 use crate::io::{
     fit_preview, write_atomic, write_obj, write_png, write_triangles_vtu, write_vtk, IoError, ObjOptions, PngOptions,
@@ -90,6 +91,10 @@ pub struct DrapeSummary {
     /// Seconds of the dynamic steps per stencil set (the active terms) and
     /// in the linear solver.
     pub term_seconds: TermTimes,
+    /// The independent checks of the final state (`app::checks`, as for
+    /// `relax`): NaN or infinite coordinates, crossing segment pairs,
+    /// largest axial strain.
+    pub checks: StateChecks,
 }
 
 impl DrapeSummary {
@@ -132,6 +137,7 @@ impl DrapeSummary {
             relax_wall_s,
             wall_s,
             term_seconds: report.term_seconds.clone(),
+            checks: check_state(fabric, sim.params(), &Limits::default()),
         })
     }
 }
