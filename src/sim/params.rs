@@ -11,6 +11,7 @@
 //! mechanisms import each other. Here every layer above can read them.
 
 use super::dynamics_settings::DynamicsParams;
+use super::layers_settings::LayersParams;
 use crate::contact::ContactMode;
 use crate::rod::bending::BendingHessian;
 use crate::rod::obstacle::Shape;
@@ -95,6 +96,10 @@ pub struct SimParams {
     /// obstacle friction, time stepping, pins and motions
     /// (`sim::dynamics_settings`).
     pub dynamics: DynamicsParams,
+    /// Stacked and sewn copies of the fabric (`knitsim drape`;
+    /// `sim::layers_settings`); `None` = one layer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layers: Option<LayersParams>,
 }
 
 impl Default for SimParams {
@@ -111,6 +116,7 @@ impl Default for SimParams {
             separation: None,
             bending_hessian: BendingHessian::default(),
             dynamics: DynamicsParams::default(),
+            layers: None,
         }
     }
 }

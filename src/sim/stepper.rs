@@ -33,7 +33,7 @@ use crate::solver::assembly::timing::TermTimes;
 use crate::solver::assembly::AssemblyError;
 use crate::solver::linear::LinearSolver;
 use crate::solver::newton::{IterStats, NewtonError, NewtonHooks, NewtonStatus};
-use crate::topology::{Fabric, PointRef, Vec3};
+use crate::topology::{ContactKind, Fabric, PointRef, Vec3};
 use std::sync::atomic::AtomicBool;
 
 #[derive(Debug, thiserror::Error)]
@@ -313,7 +313,20 @@ impl Simulation {
             &st.rest.rest_seg,
         );
         if schedule.stick {
-            st.friction_limits.fill(f64::INFINITY);
+            // Contacts between layers slide at their Coulomb limit whatever
+            // the schedule: sticking holds a fabric's own loops, not one
+            // fabric on another (`topology::layers`).
+            let mut slides = vec![false; st.friction_limits.len()];
+            for c in st.fabric.contacts.iter().filter(|c| c.kind == ContactKind::Layer) {
+                for p in [c.front, c.back] {
+                    slides[st.layout.point(p)] = true;
+                }
+            }
+            for (limit, slides) in st.friction_limits.iter_mut().zip(slides) {
+                if !slides {
+                    *limit = f64::INFINITY;
+                }
+            }
         }
         let eil_count = st.assignment.eil_count();
         let q0 = st.q.clone();

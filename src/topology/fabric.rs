@@ -89,8 +89,12 @@ pub enum ContactKind {
     Float,
     /// A tuck loop crossing the legs of the loop it sits on.
     Tuck,
-    /// Between two layers of fabric (stacked scenes).
+    /// Between two layers of fabric (stacked scenes): slides, and may
+    /// separate (`topology::layers`).
     Layer,
+    /// A sewing stitch joining two layers: fixed `u` on both yarns, never
+    /// removed (`topology::layers::sew`).
+    Seam,
 }
 
 /// What a node is, as the exporters colour it.

@@ -34,6 +34,7 @@ pub mod fabric;
 pub mod geometry;
 pub mod jitter;
 pub mod knit_graph;
+pub mod layers;
 pub mod layout;
 pub mod measure;
 pub mod options;
@@ -51,7 +52,7 @@ pub use fabric::*;
 pub use layout::LayoutOptions;
 pub use measure::{MeasuredGauge, StitchGrid};
 pub use options::CompileOptions;
-pub use stack::stack_layers;
+pub use stack::{stack_layers, stack_layers_mapped};
 pub use stats::{stats, Stats};
 pub use thin::thin_shape_points;
 

@@ -54,6 +54,12 @@ pub fn z_range(f: &Fabric) -> (f64, f64) {
 /// one of; the largest width and height; the names joined by `" / "`.
 /// `sim` is dropped: the stack is a new starting state.
 pub fn stack_layers(layers: &[Fabric], spacing: f64) -> Result<Fabric, TopologyError> {
+    stack_layers_mapped(layers, spacing).map(|(f, _)| f)
+}
+
+/// [`stack_layers`], with where each layer's nodes went: `maps[k][i]` is
+/// the stack's index of layer `k`'s node `i`.
+pub fn stack_layers_mapped(layers: &[Fabric], spacing: f64) -> Result<(Fabric, Vec<Vec<usize>>), TopologyError> {
     let Some(first) = layers.first() else {
         return Err(TopologyError::BadOption {
             name: "layers",
@@ -85,6 +91,7 @@ pub fn stack_layers(layers: &[Fabric], spacing: f64) -> Result<Fabric, TopologyE
     };
     out.meta.yarns.clear();
     let mut names = Vec::with_capacity(layers.len());
+    let mut maps = Vec::with_capacity(layers.len());
     // Next free slot for a contact node and for any other node.
     let (mut next_contact, mut next_other) = (0, n_contacts);
     for (k, layer) in layers.iter().enumerate() {
@@ -123,6 +130,7 @@ pub fn stack_layers(layers: &[Fabric], spacing: f64) -> Result<Fabric, TopologyE
             sim: None,
         };
         moved.remap_node_refs(&remap);
+        maps.push(remap);
         out.yarns.extend(moved.yarns.into_iter().map(|mut y| {
             y.spec += spec0;
             y
@@ -142,7 +150,7 @@ pub fn stack_layers(layers: &[Fabric], spacing: f64) -> Result<Fabric, TopologyE
         names.push(layer.meta.name.as_str());
     }
     out.meta.name = names.join(" / ");
-    Ok(out)
+    Ok((out, maps))
 }
 
 #[cfg(test)]

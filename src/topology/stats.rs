@@ -29,6 +29,8 @@ pub struct Stats {
     pub float_contacts: usize,
     pub tuck_contacts: usize,
     pub layer_contacts: usize,
+    /// Sewing stitches between layers.
+    pub seam_contacts: usize,
     pub floats: usize,
     /// Longest float in each chart row (bottom first), in stitches; 0 when
     /// the row has none.
@@ -97,6 +99,7 @@ pub fn stats(p: &Pattern, f: &Fabric) -> Stats {
             ContactKind::Float => s.float_contacts += 1,
             ContactKind::Tuck => s.tuck_contacts += 1,
             ContactKind::Layer => s.layer_contacts += 1,
+            ContactKind::Seam => s.seam_contacts += 1,
         }
     }
     s
@@ -104,7 +107,7 @@ pub fn stats(p: &Pattern, f: &Fabric) -> Stats {
 
 impl fmt::Display for Stats {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let rows: [(&str, String); 14] = [
+        let rows: [(&str, String); 15] = [
             ("yarn pieces", self.yarns.to_string()),
             ("knit", self.knit.to_string()),
             ("purl", self.purl.to_string()),
@@ -120,6 +123,7 @@ impl fmt::Display for Stats {
             ("  float", self.float_contacts.to_string()),
             ("  tuck", self.tuck_contacts.to_string()),
             ("  layer", self.layer_contacts.to_string()),
+            ("  seam", self.seam_contacts.to_string()),
             (
                 "floats (longest)",
                 format!("{} ({} sts)", self.floats, self.longest_float()),

@@ -60,7 +60,7 @@ pub fn woven_patch() -> Fabric {
                     point: 1 + i,
                 },
                 back: PointRef { yarn, point: 1 + j },
-                kind: ContactKind::Layer,
+                kind: ContactKind::Float,
                 partner: None,
             });
         }

@@ -22,6 +22,7 @@
 //! relaxed first with the default `RelaxOptions`, then dropped onto a
 //! sphere, with friction and air drag.
 
+pub mod layers;
 pub mod outputs;
 pub mod scene;
 
@@ -49,6 +50,8 @@ pub enum DrapeError {
     Solver(#[from] SelectError),
     #[error("motions[{index}] moves pin set {pins}, but the scene has {count} pin sets")]
     Motion { index: usize, pins: usize, count: usize },
+    #[error(transparent)]
+    Layers(#[from] layers::LayersError),
     #[error("cannot create output directory {path}")]
     OutDir { path: String, source: std::io::Error },
 }
@@ -106,7 +109,7 @@ pub fn run_drape(
     let solver_note = selection.note.clone();
     let compiled = fabric.clone();
     // Relax without the scene's obstacles, dynamics terms or gravity.
-    let (mut fabric, relax_report) = match job.relax {
+    let (fabric, relax_report) = match job.relax {
         Some(opts) => {
             let mut rp = job.params.clone();
             rp.obstacles.clear();
@@ -133,6 +136,24 @@ pub fn run_drape(
         });
     }
     let pin_sets = resolve_pins(&compiled, &d.pins)?;
+    // Layers: copies of the relaxed fabric; pins select nodes of the first.
+    let (mut fabric, pin_sets, mut layer_summary) = match params.layers.as_ref().filter(|l| !l.patches.is_empty()) {
+        Some(lp) => {
+            let l = layers::build_layers(&fabric, lp)?;
+            let pins: Vec<Vec<usize>> = pin_sets
+                .iter()
+                .map(|set| set.iter().map(|&n| l.node_maps[0][n]).collect())
+                .collect();
+            let summary = outputs::LayerSummary {
+                patches: lp.patches.len(),
+                layer_contacts: l.layer_contacts,
+                seam_contacts: l.seam_contacts,
+                ..Default::default()
+            };
+            (l.fabric, pins, Some(summary))
+        }
+        None => (fabric, pin_sets, None),
+    };
     pin_nodes(&mut fabric, &pin_sets);
     let flat = extents(&compiled);
     let params = dynamic_params(params);
@@ -189,7 +210,11 @@ pub fn run_drape(
     let wall_s = start.elapsed().as_secs_f64();
     let fabric = sim.snapshot();
     save_json(&fabric, &out.join("state.json"))?;
-    let summary = DrapeSummary::new(
+    if let Some(l) = layer_summary.as_mut() {
+        l.removed_slid_off = sim.removed().iter().filter(|r| r.cause.is_slid_off()).count();
+        l.removed_pulling = sim.removed().len() - l.removed_slid_off;
+    }
+    let mut summary = DrapeSummary::new(
         &sim,
         &fabric,
         flat,
@@ -200,6 +225,7 @@ pub fn run_drape(
         clearance,
         sim.time() - t0,
     )?;
+    summary.layers = layer_summary;
     write_final(&sim, &fabric, &out, &rows, &summary)?;
     Ok(DrapeOutcome {
         relax: relax_report,

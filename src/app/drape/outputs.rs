@@ -95,6 +95,22 @@ pub struct DrapeSummary {
     /// `relax`): NaN or infinite coordinates, crossing segment pairs,
     /// largest axial strain.
     pub checks: StateChecks,
+    /// The scene's layers, if it has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layers: Option<LayerSummary>,
+}
+
+/// What a layered scene built, and which of its contacts went.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct LayerSummary {
+    pub patches: usize,
+    /// Layer contacts found at the start, and seam contacts sewn.
+    pub layer_contacts: usize,
+    pub seam_contacts: usize,
+    /// Contacts removed because their `u` left a yarn, and because their
+    /// normal force pulled the yarns together (the sign test).
+    pub removed_slid_off: usize,
+    pub removed_pulling: usize,
 }
 
 impl DrapeSummary {
@@ -138,6 +154,7 @@ impl DrapeSummary {
             wall_s,
             term_seconds: report.term_seconds.clone(),
             checks: check_state(fabric, sim.params(), &Limits::default()),
+            layers: None,
         })
     }
 }

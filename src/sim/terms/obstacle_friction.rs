@@ -8,11 +8,18 @@
 //! nothing. The step's coordinates `q` are those of its start, so the
 //! contact normal, the normal force and the start position all come from
 //! `TermInputs::q`.
+//!
+//! A node that carries a sliding layer contact gets no friction stencil:
+//! it moves with the contact, which slides along the yarn beneath, not
+//! with that yarn's material, so friction on the node's displacement would
+//! pin the layer above to the obstacle. The yarn beneath keeps the friction
+//! of its own nodes.
 
 use super::obstacle_contact::node_thickness;
 use super::{set, TermInputs};
 use crate::rod::obstacle_friction::ObstacleFriction;
 use crate::solver::assembly::AnyStencilSet;
+use crate::topology::ContactKind;
 use nalgebra::Vector3;
 
 /// The `obstacle friction` set.
@@ -28,9 +35,13 @@ pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
     let eps = p.dynamics.friction_speed * h;
     let thickness = node_thickness(t.disc, p, &t.radii);
     let (f, l) = (t.disc.f, t.disc.l);
+    let mut on_layer = vec![false; f.nodes.len()];
+    for c in f.contacts.iter().filter(|c| c.kind == ContactKind::Layer) {
+        on_layer[c.node] = true;
+    }
     let (mut st, mut sd) = (vec![], vec![]);
     for (n, node) in f.nodes.iter().enumerate() {
-        if node.pinned {
+        if node.pinned || on_layer[n] {
             continue;
         }
         let i = l.x(n);

@@ -48,7 +48,7 @@ pub(super) fn parallel_terms(
             n = -n;
         }
         Some(CrossingSide::from_nodes(
-            c.kind == ContactKind::Layer,
+            matches!(c.kind, ContactKind::Layer | ContactKind::Seam),
             n,
             &x(c.node),
             &x(disc.node(o.yarn, op)),

@@ -1,0 +1,60 @@
+//! The layers of a scene (`"layers"`): copies of the draped fabric placed
+//! on each other, joined where their yarns touch, and optionally sewn
+//! together along edges (a pocket, a tag). `knitsim drape` builds them
+//! after relaxing the fabric once (`app::drape::layers`); a relaxation
+//! ignores them. The joining itself is `topology::layers`.
+
+use super::dynamics_settings::Edge;
+use serde::{Deserialize, Serialize};
+
+/// `"layers"` in a scene. Every key has a default; no patches = one layer,
+/// the fabric as it is.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LayersParams {
+    /// One entry per layer, bottom first: where that copy of the fabric goes.
+    pub patches: Vec<PatchPlacement>,
+    /// Yarns of two layers closer than `reach` times the sum of their radii
+    /// get a persistent layer contact at the start.
+    #[serde(deserialize_with = "crate::checked::positive")]
+    pub reach: f64,
+    /// Seams sewing one layer onto another.
+    pub seams: Vec<Seam>,
+}
+
+impl Default for LayersParams {
+    fn default() -> Self {
+        LayersParams {
+            patches: Vec::new(),
+            reach: 1.5,
+            seams: Vec::new(),
+        }
+    }
+}
+
+/// Where one copy goes: turned about its own centre by `rotate_deg`
+/// (degrees about x, then y, then z), then moved by `translate` (m).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PatchPlacement {
+    pub translate: [f64; 3],
+    pub rotate_deg: [f64; 3],
+}
+
+/// Sews patch `top` onto patch `bottom` along `edges` of `top` (its edges
+/// before placement: `left` smallest `x`, and so on): every yarn point of
+/// `top` within `margin` (m) of such an edge, and close enough to a yarn
+/// of `bottom`, becomes a seam contact.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Seam {
+    pub top: usize,
+    pub bottom: usize,
+    pub edges: Vec<Edge>,
+    #[serde(default = "default_margin", deserialize_with = "crate::checked::positive")]
+    pub margin: f64,
+}
+
+fn default_margin() -> f64 {
+    2e-3
+}

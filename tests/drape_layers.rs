@@ -1,0 +1,261 @@
+//! Stacked layers (*Robust Eulerian-on-Lagrangian Rods*, sec. 5 and
+//! Fig. 7): two woven patches on each other, joined by layer contacts found
+//! at the start, on a plane under gravity tilted by 20 degrees. The bottom
+//! patch grips the plane (obstacle `mu` 0.8, above `tan 20 = 0.36`). With
+//! no friction between the layers the top patch slides down over the
+//! bottom one, which stays put; with layer friction above `tan 20` the two
+//! move together, as Coulomb's law says a block on a block does.
+//!
+//! Also: how the layers are built (contacts shared by one yarn of each
+//! layer, the upper yarn in front, `u` still increasing along every yarn)
+//! and a seam (fixed `u` on both yarns).
+//!
+//! Release mode: `cargo test --release --test drape_layers -- --nocapture
+//! --include-ignored` prints the measured slides. The frictionless slide
+//! does not happen yet, so that test is ignored (docs/SCENES.md, "Layers").
+
+mod contact_support;
+mod drape_support;
+
+use drape_support::woven_patch;
+use knitsim::app::drape::layers::build_layers;
+use knitsim::scene::Shape;
+use knitsim::sim::dynamics::{dynamic_params, run_dynamics};
+use knitsim::sim::dynamics_settings::Edge;
+use knitsim::sim::layers_settings::{PatchPlacement, Seam};
+use knitsim::sim::{DynamicsParams, LayersParams, Simulation};
+use knitsim::solver::linear::LinearSolver;
+use knitsim::topology::{ContactKind, Fabric, Vec3};
+
+const TILT_DEG: f64 = 20.0;
+
+/// Two copies of the woven patch, the top one half a pitch across in x and
+/// y and one yarn diameter (0.5 mm) up, so that its yarns cross the bottom
+/// one's between their own crossings.
+fn two_layers(seams: Vec<Seam>) -> LayersParams {
+    LayersParams {
+        patches: vec![
+            PatchPlacement::default(),
+            PatchPlacement {
+                translate: [1e-3, 1e-3, 0.5e-3],
+                rotate_deg: [0.0; 3],
+            },
+        ],
+        seams,
+        ..LayersParams::default()
+    }
+}
+
+/// Mean position of the nodes that only `layer`'s yarns use.
+fn layer_centre(f: &Fabric, layer_of_yarn: &[usize], layer: usize) -> Vec3 {
+    let mut users = vec![usize::MAX; f.nodes.len()];
+    for (y, yarn) in f.yarns.iter().enumerate() {
+        for p in &yarn.points {
+            users[p.node] = if users[p.node] == usize::MAX || users[p.node] == layer_of_yarn[y] {
+                layer_of_yarn[y]
+            } else {
+                usize::MAX - 1
+            };
+        }
+    }
+    let own: Vec<Vec3> = (0..f.nodes.len())
+        .filter(|&n| users[n] == layer)
+        .map(|n| f.nodes[n].x)
+        .collect();
+    own.iter().sum::<Vec3>() / own.len() as f64
+}
+
+#[test]
+fn layer_contacts_join_one_yarn_of_each_layer_with_the_upper_yarn_in_front() {
+    let base = woven_patch();
+    let l = build_layers(&base, &two_layers(Vec::new())).expect("layers");
+    let f = &l.fabric;
+    let layer_contacts: Vec<_> = f.contacts.iter().filter(|c| c.kind == ContactKind::Layer).collect();
+    // Top yarns along x (at y = -3 .. 5 mm, from x = -4 mm) over bottom
+    // yarns along y (at x = -4 .. 4 mm, up to y = 5 mm): the crossings at
+    // y = 5 mm and at x = -4 mm fall on a yarn's end point, which is no
+    // crossing, leaving 4 x 4; the same for top yarns along y.
+    assert_eq!(l.layer_contacts, 32, "layer contacts found");
+    assert_eq!(layer_contacts.len(), 32);
+    assert_eq!(f.contacts.len(), 2 * base.contacts.len() + 32);
+    for c in &layer_contacts {
+        let (tf, tb) = (l.layer_of_yarn[c.front.yarn], l.layer_of_yarn[c.back.yarn]);
+        assert_eq!((tf, tb), (1, 0), "the upper layer's yarn is in front");
+        for p in [c.front, c.back] {
+            let pt = &f.yarns[p.yarn].points[p.point];
+            assert_eq!(pt.node, c.node, "both points share the contact node");
+            assert!(!pt.fixed_u, "a layer contact slides");
+        }
+    }
+    // The yarns' own contacts still point at their own nodes after the insertions.
+    for c in &f.contacts {
+        assert_eq!(f.yarns[c.front.yarn].points[c.front.point].node, c.node);
+        assert_eq!(f.yarns[c.back.yarn].points[c.back.point].node, c.node);
+    }
+    for y in &f.yarns {
+        assert!(
+            y.points.windows(2).all(|w| w[1].u > w[0].u),
+            "u increases along every yarn"
+        );
+    }
+    // Patches too far apart do not touch.
+    let mut far = two_layers(Vec::new());
+    far.patches[1].translate[2] = 5e-3;
+    assert_eq!(build_layers(&base, &far).expect("layers").layer_contacts, 0);
+}
+
+#[test]
+fn a_seam_holds_its_yarns_at_fixed_u_and_is_not_a_sliding_contact() {
+    let base = woven_patch();
+    let seam = Seam {
+        top: 1,
+        bottom: 0,
+        edges: vec![Edge::Left, Edge::Right],
+        margin: 1.5e-3,
+    };
+    let l = build_layers(&base, &two_layers(vec![seam])).expect("layers");
+    let f = &l.fabric;
+    let seams: Vec<_> = f.contacts.iter().filter(|c| c.kind == ContactKind::Seam).collect();
+    assert!(
+        l.seam_contacts > 0 && seams.len() == l.seam_contacts,
+        "{} seams",
+        l.seam_contacts
+    );
+    for c in &seams {
+        for p in [c.front, c.back] {
+            let pt = &f.yarns[p.yarn].points[p.point];
+            assert_eq!(pt.node, c.node);
+            assert!(pt.fixed_u, "a seam does not slide");
+        }
+        // Only points near the top patch's left and right edges are sewn.
+        let x = f.nodes[c.node].x.x - 1e-3;
+        assert!(x.abs() > 5e-3 - 1.5e-3 - 1e-3, "seam at x = {x}");
+    }
+    let bad = LayersParams {
+        seams: vec![Seam {
+            top: 2,
+            bottom: 0,
+            edges: vec![Edge::Left],
+            margin: 1e-3,
+        }],
+        ..two_layers(Vec::new())
+    };
+    let e = build_layers(&base, &bad)
+        .err()
+        .expect("a seam onto a missing patch is refused");
+    assert!(e.to_string().contains("2 patches"), "{e}");
+}
+
+/// How the bottom patch is held.
+#[derive(Clone, Copy)]
+enum Hold {
+    /// Every node only the bottom patch uses is pinned; no obstacle.
+    Pins,
+    /// It lies on a plane with obstacle friction 0.8.
+    Plane,
+}
+
+/// Slides (m) of the bottom and the top layer's centres along the downhill
+/// direction after `duration` seconds, with yarn-yarn friction `mu`, and
+/// how many contacts were removed.
+fn slides(mu: f64, duration: f64, hold: Hold) -> (f64, f64, usize) {
+    let l = build_layers(&woven_patch(), &two_layers(Vec::new())).expect("layers");
+    let mut p = knitsim::scene::params_for(&l.fabric, None).unwrap();
+    p.contact = None;
+    p.terms.wrapping = false;
+    p.rod.mu = mu;
+    let t = TILT_DEG.to_radians();
+    p.dynamics = DynamicsParams {
+        gravity: [9.81 * t.sin(), 0.0, -9.81 * t.cos()],
+        dt: 1e-3,
+        duration,
+        rest_time: 0.0,
+        ..DynamicsParams::default()
+    };
+    let (f0, layers) = (l.fabric.clone(), l.layer_of_yarn.clone());
+    let mut fabric = l.fabric;
+    match hold {
+        Hold::Pins => {
+            let mut only_bottom = vec![true; fabric.nodes.len()];
+            for (y, yarn) in fabric.yarns.iter().enumerate() {
+                for pt in yarn.points.iter().filter(|_| layers[y] != 0) {
+                    only_bottom[pt.node] = false;
+                }
+            }
+            for (node, pin) in fabric.nodes.iter_mut().zip(only_bottom) {
+                node.pinned = pin;
+            }
+        }
+        Hold::Plane => {
+            p.obstacles = vec![Shape::Plane {
+                point: [0.0, 0.0, -0.25e-3],
+                normal: [0.0, 0.0, 1.0],
+            }];
+            p.dynamics.obstacle_mu = 0.8;
+        }
+    }
+    let mut sim = Simulation::new(fabric, dynamic_params(p), LinearSolver::direct(), 1e-3);
+    run_dynamics(&mut sim, &[], None, &mut |_, _| true).expect("dynamics");
+    let f1 = sim.snapshot();
+    let moved = |k| (layer_centre(&f1, &layers, k) - layer_centre(&f0, &layers, k)).x;
+    (moved(0), moved(1), sim.removed().len())
+}
+
+/// A frictionless block on a fixed one after `t` seconds of backward Euler
+/// steps of 1 ms: `g sin(theta) t (t + h) / 2` (the exact `t^2` law's
+/// discrete counterpart, as in the free-fall test of `drape_physics`).
+fn free_slide(t: f64) -> f64 {
+    0.5 * 9.81 * TILT_DEG.to_radians().sin() * t * (t + 1e-3)
+}
+
+/// The top patch on a pinned bottom one: frictionless, it slides downhill
+/// as a free block does; with friction above `tan 20` it stays. 25 ms
+/// keeps the slide (1.1 mm) below the 1.5 mm at which the layer contacts
+/// stop today, on reaching the other patch's own crossings
+/// (docs/SCENES.md, "Layers").
+#[test]
+fn a_patch_on_a_held_patch_slides_without_friction_and_sticks_above_tan_theta() {
+    let duration = 0.025;
+    let free = free_slide(duration);
+    let (bottom, top, removed) = slides(0.0, duration, Hold::Pins);
+    eprintln!(
+        "pinned bottom, mu 0: top {:.3} mm (free slide {:.3} mm), {removed} contacts removed",
+        top * 1e3,
+        free * 1e3
+    );
+    assert!(bottom.abs() < 1e-9, "the pinned patch moved {:.3} mm", bottom * 1e3);
+    assert!(
+        (top / free - 1.0).abs() < 0.1,
+        "the top layer slid {:.3} mm, a free block {:.3} mm",
+        top * 1e3,
+        free * 1e3
+    );
+    let (_, stuck, _) = slides(0.8, duration, Hold::Pins);
+    eprintln!("pinned bottom, mu 0.8: top {:.3} mm", stuck * 1e3);
+    assert!(
+        stuck.abs() < 0.05e-3,
+        "the top layer slid {:.3} mm at mu 0.8",
+        stuck * 1e3
+    );
+}
+
+#[test]
+#[ignore = "the top patch settles into the bottom one's plane and takes the plane's friction: \
+            with mu 0 it slid 0.13 mm against a free 4.2 mm (docs/SCENES.md, \"Layers\")"]
+fn frictionless_layers_on_a_plane_slide_over_each_other_and_the_bottom_one_stays() {
+    let duration = 0.05;
+    let free = free_slide(duration);
+    let (bottom, top, removed) = slides(0.0, duration, Hold::Plane);
+    eprintln!(
+        "plane, mu 0: bottom {:.3} mm, top {:.3} mm (free slide {:.3} mm), {removed} contacts removed",
+        bottom * 1e3,
+        top * 1e3,
+        free * 1e3
+    );
+    assert!(bottom.abs() < 0.3e-3, "the bottom layer moved {:.3} mm", bottom * 1e3);
+    assert!(
+        top - bottom > 0.5 * free,
+        "the top layer slid only {:.3} mm",
+        (top - bottom) * 1e3
+    );
+}
