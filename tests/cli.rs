@@ -232,6 +232,7 @@ fn lifted_layer() -> Fabric {
             });
         }
         f.yarns.push(Yarn {
+            layer: 0,
             spec: 0,
             rest_length: 0.04,
             points,

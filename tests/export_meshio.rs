@@ -57,6 +57,7 @@ fn add_yarn(f: &mut Fabric, spec: usize, xs: &[[f64; 3]]) -> usize {
         });
     }
     f.yarns.push(Yarn {
+        layer: 0,
         spec,
         rest_length: u,
         points,

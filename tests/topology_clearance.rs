@@ -113,6 +113,7 @@ fn straight(nodes: &mut Vec<Node>, pts: &[Vec3], shared: Option<(usize, usize)>)
         });
     }
     Yarn {
+        layer: 0,
         spec: 0,
         rest_length: (pts.len() - 1) as f64 * 1e-3,
         points,

@@ -45,6 +45,7 @@ pub(crate) fn push_yarn(fabric: &mut Fabric, spec: usize, xs: &[Vec3]) -> usize 
         });
     }
     fabric.yarns.push(Yarn {
+        layer: 0,
         spec,
         rest_length: u,
         points,

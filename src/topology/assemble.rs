@@ -182,6 +182,7 @@ pub fn assemble(
             )));
         }
         yarns.push(Yarn {
+            layer: 0,
             spec: *spec,
             rest_length: u.last().copied().unwrap_or(0.0),
             points,

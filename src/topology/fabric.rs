@@ -38,6 +38,10 @@ pub struct Node {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Yarn {
+    /// Which layer of a stacked scene the yarn belongs to (0, the bottom,
+    /// for a single fabric; `topology::stack`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub layer: usize,
     /// Index into `meta.yarns` (colour, radius, material).
     pub spec: usize,
     /// Rest length `L`; every point has `u` in `[0, L]`.
@@ -114,6 +118,10 @@ pub struct SimInfo {
 
 fn is_false(b: &bool) -> bool {
     !*b
+}
+
+fn is_zero(v: &usize) -> bool {
+    *v == 0
 }
 
 impl Fabric {

@@ -40,8 +40,9 @@ pub fn z_range(f: &Fabric) -> (f64, f64) {
 }
 
 /// The layers as one fabric: yarns and contacts of layer `k` follow those
-/// of layer `k - 1`, every index shifted by the counts before it, and every
-/// node of layer `k` moved by `k * spacing` in `z`. Pins, EIL flags and a
+/// of layer `k - 1`, every index shifted by the counts before it, every
+/// yarn of layer `k` tagged `layer = k`, and every node of layer `k` moved
+/// by `k * spacing` in `z`. Pins, EIL flags and a
 /// simulation's `u` are kept as they are.
 ///
 /// Node order: the contact nodes of all layers first, in contact order,
@@ -133,6 +134,7 @@ pub fn stack_layers_mapped(layers: &[Fabric], spacing: f64) -> Result<(Fabric, V
         maps.push(remap);
         out.yarns.extend(moved.yarns.into_iter().map(|mut y| {
             y.spec += spec0;
+            y.layer = k;
             y
         }));
         let shift = |p: PointRef| PointRef {

@@ -115,6 +115,7 @@ pub fn yarn_fabric(len: f64, n: usize, pos: impl Fn(f64) -> Vec3) -> Fabric {
         meta: meta(5e-4),
         nodes,
         yarns: vec![Yarn {
+            layer: 0,
             spec: 0,
             rest_length: len,
             points,
@@ -150,6 +151,7 @@ pub fn add_yarn(f: &mut Fabric, pts: &[Vec3], contact_at: &[Option<usize>]) -> u
         });
     }
     f.yarns.push(Yarn {
+        layer: 0,
         spec: 0,
         rest_length: u,
         points,

@@ -81,6 +81,7 @@ pub fn polyline_fabric(pts: &[Vec3], radius: f64) -> Fabric {
     };
     f.nodes = pts.iter().map(|&x| Node { x, pinned: false }).collect();
     f.yarns.push(Yarn {
+        layer: 0,
         spec: 0,
         rest_length: u,
         points,

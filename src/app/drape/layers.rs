@@ -64,9 +64,7 @@ pub fn build_layers(base: &Fabric, lp: &LayersParams) -> Result<Layered, LayersE
         })
         .collect();
     let (mut fabric, node_maps) = stack_layers_mapped(&patches, 0.0)?;
-    let layer_of_yarn: Vec<usize> = (0..count)
-        .flat_map(|k| std::iter::repeat_n(k, base.yarns.len()))
-        .collect();
+    let layer_of_yarn: Vec<usize> = fabric.yarns.iter().map(|y| y.layer).collect();
     // Seam points are chosen on the unplaced fabric: its own edges.
     let (lo, hi) = base.nodes.iter().fold(
         (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),

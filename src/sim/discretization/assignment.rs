@@ -211,6 +211,7 @@ pub(crate) mod tests {
     /// A yarn of spec 0 through `(node, u, fixed_u)` points, none EIL.
     pub(crate) fn test_yarn(points: &[(usize, f64, bool)], rest_length: f64) -> Yarn {
         Yarn {
+            layer: 0,
             spec: 0,
             rest_length,
             points: points
@@ -277,6 +278,7 @@ pub(crate) mod tests {
             meta: meta(),
             nodes,
             yarns: vec![Yarn {
+                layer: 0,
                 spec: 0,
                 rest_length: 1.0,
                 points,

@@ -21,7 +21,7 @@ pub mod dofs;
 pub mod rest_data;
 pub mod transfer;
 
-use crate::topology::{Fabric, PointRef};
+use crate::topology::{Contact, Fabric, PointRef};
 use assignment::Assignment;
 use dofs::DofLayout;
 use nalgebra::SVector;
@@ -91,6 +91,11 @@ impl<'a> Discretization<'a> {
     /// Whether a yarn point belongs to a contact (its node is a contact's).
     pub fn is_contact_point(&self, p: PointRef) -> bool {
         self.contact_at_node[self.node(p.yarn, p.point)].is_some()
+    }
+
+    /// The contact at point `p`'s node, if any.
+    pub fn contact_at(&self, p: PointRef) -> Option<&Contact> {
+        self.contact_at_node[self.node(p.yarn, p.point)].map(|c| &self.f.contacts[c])
     }
 
     /// Node of point `p` of yarn `y`.

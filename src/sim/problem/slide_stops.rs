@@ -135,6 +135,7 @@ pub(crate) mod tests {
                 })
                 .collect(),
             yarns: vec![Yarn {
+                layer: 0,
                 spec: 0,
                 rest_length: 0.9,
                 points,

@@ -12,7 +12,10 @@
 //! end's fixed `u` and the outermost contact point's `u`, at a distance of
 //! one diameter of that yarn (`SimParams::yarn_radii`), or half the
 //! compiled tail if that is shorter (so the compiled state is never inside
-//! a stop). It is a term like any other:
+//! a stop). Only the fabric's own contacts count: a contact with another
+//! layer, or a seam, is not how the yarn's tail is secured, and a layer
+//! sliding off another must be free to leave its yarns. It is a term like
+//! any other:
 //! `Terms::secured_ends` switches it off for scenes that want a tail to
 //! pull out.
 
@@ -21,7 +24,7 @@ use crate::rod::parallel_contact::ParallelContact;
 use crate::sim::discretization::Discretization;
 use crate::sim::params::SimParams;
 use crate::solver::assembly::AnyStencilSet;
-use crate::topology::PointRef;
+use crate::topology::{ContactKind, PointRef};
 
 /// The `yarn-ends` set (none while `Terms::secured_ends` is off).
 pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
@@ -39,7 +42,10 @@ pub fn end_stops(disc: &Discretization, p: &SimParams, radii: &[f64]) -> (Vec<Pa
     let (mut t, mut d) = (vec![], vec![]);
     for (y, ord) in disc.a.orders().iter().enumerate() {
         let pts = &f.yarns[y].points;
-        let contact = |pi: &&usize| disc.is_contact_point(PointRef { yarn: y, point: **pi });
+        let contact = |pi: &&usize| {
+            disc.contact_at(PointRef { yarn: y, point: **pi })
+                .is_some_and(|c| !matches!(c.kind, ContactKind::Layer | ContactKind::Seam))
+        };
         let (Some(&start), Some(&end)) = (ord.first(), ord.last()) else {
             continue;
         };

@@ -9,11 +9,17 @@
 //! contact normal, the normal force and the start position all come from
 //! `TermInputs::q`.
 //!
-//! A node that carries a sliding layer contact gets no friction stencil:
-//! it moves with the contact, which slides along the yarn beneath, not
-//! with that yarn's material, so friction on the node's displacement would
-//! pin the layer above to the obstacle. The yarn beneath keeps the friction
-//! of its own nodes.
+//! In a stack of layers only the bottom layer's own nodes get friction:
+//! - a node on a yarn of a higher layer (`Yarn::layer`) rests on the layer
+//!   below, not on the obstacle. Where layers touch, their yarns share
+//!   contact nodes, so the centre-line model puts the layers in one surface
+//!   and the upper layer's nodes reach the obstacle too (the rendering adds
+//!   the thickness); they are kept off it, but without friction. The
+//!   bottom layer's grip is then that of its own weight only;
+//! - a node that carries a sliding layer contact moves with the contact,
+//!   which slides along the yarn beneath, not with that yarn's material, so
+//!   friction on the node's displacement would pin the layer above to the
+//!   obstacle. The yarn beneath keeps the friction of its own nodes.
 
 use super::obstacle_contact::node_thickness;
 use super::{set, TermInputs};
@@ -38,6 +44,11 @@ pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
     let mut on_layer = vec![false; f.nodes.len()];
     for c in f.contacts.iter().filter(|c| c.kind == ContactKind::Layer) {
         on_layer[c.node] = true;
+    }
+    for yarn in f.yarns.iter().filter(|y| y.layer > 0) {
+        for pt in &yarn.points {
+            on_layer[pt.node] = true;
+        }
     }
     let (mut st, mut sd) = (vec![], vec![]);
     for (n, node) in f.nodes.iter().enumerate() {

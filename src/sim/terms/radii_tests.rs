@@ -43,6 +43,7 @@ fn two_crossings() -> Fabric {
         eil: false,
     };
     let crossing = |spec: usize, start: usize| Yarn {
+        layer: 0,
         spec,
         rest_length: 10.05 * MM,
         points: vec![
@@ -63,6 +64,7 @@ fn two_crossings() -> Fabric {
         nodes: xs.iter().map(|&x| Node { x, pinned: false }).collect(),
         yarns: vec![
             Yarn {
+                layer: 0,
                 spec: 0,
                 rest_length: 12.0 * MM,
                 points: vec![
