@@ -33,12 +33,26 @@ impl Default for LayersParams {
 }
 
 /// Where one copy goes: turned about its own centre by `rotate_deg`
-/// (degrees about x, then y, then z), then moved by `translate` (m).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+/// (degrees about x, then y, then z), then moved by `translate` (m); and
+/// how stiff its yarns are, as a multiple of the scene's `rod.ks` and
+/// `rod.kb` (a tag several times stiffer than the shirt under it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PatchPlacement {
     pub translate: [f64; 3],
     pub rotate_deg: [f64; 3],
+    #[serde(deserialize_with = "crate::checked::positive")]
+    pub stiffness: f64,
+}
+
+impl Default for PatchPlacement {
+    fn default() -> Self {
+        PatchPlacement {
+            translate: [0.0; 3],
+            rotate_deg: [0.0; 3],
+            stiffness: 1.0,
+        }
+    }
 }
 
 /// Sews patch `top` onto patch `bottom` along `edges` of `top` (its edges

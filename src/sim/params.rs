@@ -122,6 +122,21 @@ impl Default for SimParams {
 }
 
 impl SimParams {
+    /// The rod material of a yarn of stacked layer `layer` (`Yarn::layer`):
+    /// `rod` with `ks` and `kb` scaled by that patch's `stiffness`
+    /// (`layers.patches`; 1 without layers).
+    pub fn yarn_rod(&self, layer: usize) -> RodParams {
+        let scale = self
+            .layers
+            .as_ref()
+            .and_then(|l| l.patches.get(layer))
+            .map_or(1.0, |p| p.stiffness);
+        let mut rod = self.rod.clone();
+        rod.ks *= scale;
+        rod.kb *= scale;
+        rod
+    }
+
     /// Whether thickness contact between yarns is on (a `"contact"` whose
     /// mode is not `none`).
     pub fn contact_on(&self) -> bool {

@@ -16,9 +16,12 @@
 //! test on, when its normal force pulls the layers together
 //! (`sim::events::separation`): a buckling tag lifts off.
 //!
-//! The yarn higher along `+z` is the contact's front point: the side
-//! convention of `sim::events::separation`, whose normals start from `+z`.
-//! Stack layers along `z` (gravity along `-z`).
+//! The yarn of the higher layer (`Yarn::layer`, the later patch) is the
+//! contact's front point: the side convention of `sim::events::separation`,
+//! whose normals start from `+z`. Stack layers along `z` (gravity along
+//! `-z`). Place touching layers at the same height: a contact's two yarns
+//! share its node, so layers placed apart are pulled into one surface at
+//! their contacts, and start bent (and, with the sign test on, separating).
 //!
 //! [`sew`] joins two layers along a seam instead: [`ContactKind::Seam`]
 //! nodes with fixed `u` on both yarns, which neither slide nor separate.
@@ -206,7 +209,11 @@ fn join(
         }
     }
     let added = accepted.len();
-    insert_contacts(f, &accepted, kind, kind == ContactKind::Seam);
+    let upper_first: Vec<bool> = accepted
+        .iter()
+        .map(|(a, b)| layer_of_yarn[a.yarn] > layer_of_yarn[b.yarn])
+        .collect();
+    insert_contacts(f, &accepted, &upper_first, kind, kind == ContactKind::Seam);
     Ok(added)
 }
 
@@ -227,12 +234,12 @@ fn check_layers(f: &Fabric, layer_of_yarn: &[usize]) -> Result<(), TopologyError
 }
 
 /// Adds one contact per pair, on a new node at the midpoint of the two
-/// points. The front point is the one on the yarn higher along `z`.
-fn insert_contacts(f: &mut Fabric, pairs: &[(Insert, Insert)], kind: ContactKind, fixed_u: bool) {
+/// points; the pair's first point is the front one where `a_front` says so.
+fn insert_contacts(f: &mut Fabric, pairs: &[(Insert, Insert)], a_front: &[bool], kind: ContactKind, fixed_u: bool) {
     // New points per yarn: (after, s, node), then merged into the yarns.
     let mut new_points: Vec<Vec<(usize, f64, usize, bool)>> = vec![Vec::new(); f.yarns.len()];
     let mut contact_ends = Vec::with_capacity(pairs.len());
-    for (a, b) in pairs {
+    for ((a, b), &a_front) in pairs.iter().zip(a_front) {
         let pos = |i: &Insert| {
             let p = &f.yarns[i.yarn].points;
             f.nodes[p[i.after].node].x.lerp(&f.nodes[p[i.after + 1].node].x, i.s)
@@ -246,7 +253,6 @@ fn insert_contacts(f: &mut Fabric, pairs: &[(Insert, Insert)], kind: ContactKind
         for i in [a, b] {
             new_points[i.yarn].push((i.after, i.s, node, fixed_u));
         }
-        let a_front = xa.z >= xb.z;
         contact_ends.push((node, a.yarn, b.yarn, a_front));
     }
     // Rebuild each yarn's point list in u order; remember where points went.

@@ -96,8 +96,8 @@ pub(crate) fn real_contact_force(
     if real.get(k) != Some(&me.point) {
         return None;
     }
-    let rp = &p.rod;
     let yarn = &f.yarns[me.yarn];
+    let rp = &p.yarn_rod(yarn.layer);
     // Local `[x, u]` of the real point at rank `r`.
     let xu = |r: usize| -> SVector<f64, 4> {
         let pi = real[r];

@@ -12,9 +12,9 @@ use crate::solver::assembly::AnyStencilSet;
 /// The `stretch`, `bending` and `inertia` sets, in that order.
 pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
     let (disc, p) = (t.disc, t.params);
-    let rp = &p.rod;
     let (mut st, mut sd, mut bt, mut bd, mut it, mut id) = (vec![], vec![], vec![], vec![], vec![], vec![]);
     for (y, real) in disc.real.iter().enumerate() {
+        let rp = &p.yarn_rod(disc.f.yarns[y].layer);
         for d in segment_dofs(disc, y, real) {
             st.push(Stretch::new(rp.ks));
             sd.push(d);
