@@ -319,7 +319,7 @@ fn compress(factor: f64) -> (usize, Vec<ContactKind>, (usize, usize)) {
         .into_iter()
         .filter(|&n| fabric.nodes[n].x.x.abs() > 3.5e-3)
         .collect();
-    pin_nodes(&mut fabric, &[edges.clone()]);
+    pin_nodes(&mut fabric, std::slice::from_ref(&edges));
     p.dynamics = DynamicsParams {
         gravity: [0.0; 3],
         damping: 5.0,
