@@ -70,26 +70,44 @@ pub fn non_negative<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     checked(d, |v| v.is_finite() && v >= 0.0, "a number, 0 or above")
 }
 
-/// `null` or a finite number above zero.
-pub fn optional_positive<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
-    struct Optional;
-    impl<'de> Visitor<'de> for Optional {
-        type Value = Option<f64>;
-        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-            f.write_str("null or a number above 0")
+/// `null`, or a number checked by `$inner`.
+macro_rules! optional {
+    ($(#[$doc:meta])* $name:ident, $inner:ident, $what:literal) => {
+        $(#[$doc])*
+        pub fn $name<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+            struct Optional;
+            impl<'de> Visitor<'de> for Optional {
+                type Value = Option<f64>;
+                fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                    f.write_str($what)
+                }
+                fn visit_none<E: Error>(self) -> Result<Self::Value, E> {
+                    Ok(None)
+                }
+                fn visit_unit<E: Error>(self) -> Result<Self::Value, E> {
+                    Ok(None)
+                }
+                fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+                    $inner(d).map(Some)
+                }
+            }
+            d.deserialize_option(Optional)
         }
-        fn visit_none<E: Error>(self) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-        fn visit_unit<E: Error>(self) -> Result<Self::Value, E> {
-            Ok(None)
-        }
-        fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
-            positive(d).map(Some)
-        }
-    }
-    d.deserialize_option(Optional)
+    };
 }
+
+optional!(
+    /// `null` or a finite number above zero.
+    optional_positive,
+    positive,
+    "null or a number above 0"
+);
+optional!(
+    /// `null` or a finite number, zero or above.
+    optional_non_negative,
+    non_negative,
+    "null or a number, 0 or above"
+);
 
 #[cfg(test)]
 mod tests {

@@ -47,6 +47,7 @@ fn stiff_top(seams: Vec<Seam>, stiffness: f64) -> LayersParams {
             },
         ],
         seams,
+        gap: Some(0.0),
         ..LayersParams::default()
     }
 }

@@ -20,6 +20,12 @@ pub struct LayersParams {
     pub reach: f64,
     /// Seams sewing one layer onto another.
     pub seams: Vec<Seam>,
+    /// Patch `k` is first lifted by `k` times the fabric's depth plus this
+    /// gap (m) along `z`, so that layers start apart and touch across the
+    /// gap only; `null` = one diameter of the thickest yarn. A flat fabric
+    /// (a weave) can lie in one surface with its layers: 0.
+    #[serde(deserialize_with = "crate::checked::optional_non_negative")]
+    pub gap: Option<f64>,
 }
 
 impl Default for LayersParams {
@@ -28,6 +34,7 @@ impl Default for LayersParams {
             patches: Vec::new(),
             reach: 1.5,
             seams: Vec::new(),
+            gap: None,
         }
     }
 }

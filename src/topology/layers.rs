@@ -114,8 +114,8 @@ fn segments(f: &Fabric) -> (Vec<[usize; 2]>, Vec<(usize, usize)>) {
 /// [`ContactKind::Layer`] contact wherever a yarn of one layer passes a
 /// yarn of another closer than `reach` times the sum of their radii, away
 /// from both segments' ends. Along each yarn, contacts keep at least one
-/// yarn diameter (in `u`) from each other and from the yarn's other
-/// contacts: the closest crossing wins. Returns how many were added.
+/// yarn radius (in `u`) from each other and from the yarn's other
+/// contacts, so no segment starts degenerate: the closest crossing wins. Returns how many were added.
 pub fn join_layers(f: &mut Fabric, layer_of_yarn: &[usize], reach: f64) -> Result<usize, TopologyError> {
     let differ = |ya: usize, _: f64, yb: usize, _: f64| layer_of_yarn[ya] != layer_of_yarn[yb];
     join(f, layer_of_yarn, reach, &differ, ContactKind::Layer)
@@ -200,7 +200,7 @@ fn join(
     let mut accepted = Vec::new();
     for (_, a, b) in found {
         let (ua, ub) = (u_of(&a), u_of(&b));
-        let gap = 2.0 * radius(a.yarn).max(radius(b.yarn));
+        let gap = radius(a.yarn).max(radius(b.yarn));
         let free = |y: usize, u: f64| taken[y].iter().all(|&v| (v - u).abs() >= gap);
         if free(a.yarn, ua) && free(b.yarn, ub) {
             taken[a.yarn].push(ua);

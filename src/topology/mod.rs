@@ -45,6 +45,7 @@ pub mod sample;
 pub mod stack;
 pub mod stats;
 pub mod thin;
+pub mod weave;
 
 pub use clearance::{clearance, ClearanceOptions, ClearanceReport, Violation};
 pub use error::TopologyError;

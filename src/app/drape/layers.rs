@@ -1,11 +1,13 @@
 //! Building a scene's layers (`"layers"`, `sim::layers_settings`): one
-//! copy of the relaxed fabric per patch, placed, merged into one fabric,
-//! joined by layer contacts where yarns of two layers touch, and sewn along
-//! the scene's seams (`topology::layers`).
+//! copy of the relaxed fabric per patch, lifted above the ones before it
+//! (by the fabric's depth plus `gap`), placed, merged into one fabric, sewn
+//! along the scene's seams and joined by layer contacts where yarns of two
+//! layers touch (`topology::layers`).
 
 use crate::sim::dynamics_settings::Edge;
 use crate::sim::LayersParams;
 use crate::topology::layers::{join_layers, place, sew, Placement};
+use crate::topology::stack::depth;
 use crate::topology::{stack_layers_mapped, Fabric, TopologyError, Vec3};
 
 /// The layered fabric and what was built.
@@ -48,15 +50,18 @@ pub fn build_layers(base: &Fabric, lp: &LayersParams) -> Result<Layered, LayersE
             count,
         });
     }
+    let thickest = base.meta.yarns.iter().map(|y| y.radius).fold(0.0, f64::max);
+    let lift = depth(base) + lp.gap.unwrap_or(2.0 * thickest);
     let patches: Vec<Fabric> = lp
         .patches
         .iter()
-        .map(|p| {
+        .enumerate()
+        .map(|(k, p)| {
             let mut f = base.clone();
             place(
                 &mut f,
                 &Placement {
-                    translate: Vec3::from(p.translate),
+                    translate: Vec3::from(p.translate) + Vec3::z() * (k as f64 * lift),
                     rotate_deg: Vec3::from(p.rotate_deg),
                 },
             );
