@@ -140,6 +140,74 @@ fn every_example_scene_loads() {
     assert!(n >= 5, "{n} scenes");
 }
 
+/// The shipped layered scenes on an 8 x 8 weave (`topology::weave`), cut
+/// to 30 ms: the summary reports the layers, their contacts and seams, and
+/// what was removed; a seam onto a missing patch is an error.
+#[test]
+fn layered_scenes_join_sew_and_report_their_layers() {
+    use knitsim::topology::weave::{plain_weave, WeaveOptions};
+    let dir = tempfile::tempdir().unwrap();
+    let cloth = dir.path().join("cloth.json");
+    let o = WeaveOptions {
+        warps: 8,
+        wefts: 8,
+        ..WeaveOptions::default()
+    };
+    knitsim::io::save_json(&plain_weave(&o).unwrap(), &cloth).unwrap();
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes");
+    for (name, patches, seams) in [("tablecloth", 3, false), ("sewn-patch", 2, true)] {
+        let mut scene: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(scenes.join(format!("{name}.json"))).unwrap()).unwrap();
+        scene["dynamics"]["duration"] = serde_json::json!(0.03);
+        let path = dir.path().join(format!("{name}.json"));
+        std::fs::write(&path, scene.to_string()).unwrap();
+        let out = dir.path().join(name);
+        let run = knitsim()
+            .args([
+                "drape",
+                cloth.to_str().unwrap(),
+                "--no-relax",
+                "--scene",
+                path.to_str().unwrap(),
+                "-o",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let summary: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out.join("summary.json"))
+                .unwrap_or_else(|e| panic!("{name}: no summary ({e}): {}", String::from_utf8_lossy(&run.stderr))),
+        )
+        .unwrap();
+        let layers = &summary["layers"];
+        eprintln!("{name}: {layers}");
+        assert_eq!(layers["patches"], patches, "{name}");
+        assert!(layers["layer_contacts"].as_u64().unwrap() > 0, "{name}: {layers}");
+        assert_eq!(layers["seam_contacts"].as_u64().unwrap() > 0, seams, "{name}: {layers}");
+        assert_eq!(summary["checks"]["non_finite"], 0, "{name}");
+    }
+    let bad = dir.path().join("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{"layers": {"patches": [{}], "seams": [{"top": 1, "bottom": 0, "edges": ["left"]}]}}"#,
+    )
+    .unwrap();
+    let run = knitsim()
+        .args([
+            "drape",
+            cloth.to_str().unwrap(),
+            "--no-relax",
+            "--scene",
+            bad.to_str().unwrap(),
+            "-o",
+        ])
+        .arg(dir.path().join("bad"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success() && err.contains("seams[0]"), "{err}");
+}
+
 #[test]
 fn dynamics_errors_name_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
