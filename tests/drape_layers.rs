@@ -53,11 +53,11 @@ fn stiff_top(seams: Vec<Seam>, stiffness: f64) -> LayersParams {
 }
 
 /// The nodes that only `layer`'s yarns use in `f`.
-fn own_nodes(f: &Fabric, layer_of_yarn: &[usize], layer: usize) -> Vec<usize> {
+fn own_nodes(f: &Fabric, layer: usize) -> Vec<usize> {
     let mut users = vec![0u32; f.nodes.len()];
-    for (y, yarn) in f.yarns.iter().enumerate() {
+    for yarn in &f.yarns {
         for p in &yarn.points {
-            users[p.node] |= 1 << layer_of_yarn[y];
+            users[p.node] |= 1 << yarn.layer;
         }
     }
     (0..f.nodes.len()).filter(|&n| users[n] == 1 << layer).collect()
@@ -82,7 +82,7 @@ fn layer_contacts_join_one_yarn_of_each_layer_with_the_upper_yarn_in_front() {
     assert_eq!(layer_contacts.len(), 32);
     assert_eq!(f.contacts.len(), 2 * base.contacts.len() + 32);
     for c in &layer_contacts {
-        let (tf, tb) = (l.layer_of_yarn[c.front.yarn], l.layer_of_yarn[c.back.yarn]);
+        let (tf, tb) = (f.yarns[c.front.yarn].layer, f.yarns[c.back.yarn].layer);
         assert_eq!((tf, tb), (1, 0), "the upper layer's yarn is in front");
         for p in [c.front, c.back] {
             let pt = &f.yarns[p.yarn].points[p.point];
@@ -175,11 +175,11 @@ fn slides(mu: f64, duration: f64, hold: Hold) -> (f64, f64, usize) {
         rest_time: 0.0,
         ..DynamicsParams::default()
     };
-    let (f0, layers) = (l.fabric.clone(), l.layer_of_yarn.clone());
+    let f0 = l.fabric.clone();
     let mut fabric = l.fabric;
     match hold {
         Hold::Pins => {
-            for n in own_nodes(&fabric, &layers, 0) {
+            for n in own_nodes(&fabric, 0) {
                 fabric.nodes[n].pinned = true;
             }
         }
@@ -197,7 +197,7 @@ fn slides(mu: f64, duration: f64, hold: Hold) -> (f64, f64, usize) {
     // Each layer's own nodes at the start (a removed contact leaves a node
     // to one yarn, which must not join that layer's count).
     let moved = |k| {
-        let own = own_nodes(&f0, &layers, k);
+        let own = own_nodes(&f0, k);
         (centre(&f1, &own) - centre(&f0, &own)).x
     };
     (moved(0), moved(1), sim.removed().len())
@@ -316,7 +316,7 @@ fn compress(factor: f64) -> (usize, Vec<ContactKind>, (usize, usize)) {
     p.layers = Some(stiff_top(Vec::new(), 5.0));
     p.separation = Some(SeparationParams::default());
     // The bottom patch's own nodes beyond 3.5 mm from its middle: its edges.
-    let edges: Vec<usize> = own_nodes(&fabric, &l.layer_of_yarn, 0)
+    let edges: Vec<usize> = own_nodes(&fabric, 0)
         .into_iter()
         .filter(|&n| fabric.nodes[n].x.x.abs() > 3.5e-3)
         .collect();

@@ -110,15 +110,15 @@ fn segments(f: &Fabric) -> (Vec<[usize; 2]>, Vec<(usize, usize)>) {
     (nodes, at)
 }
 
-/// Joins the layers of `f` (`layer_of_yarn[y]` is yarn `y`'s layer) with a
-/// [`ContactKind::Layer`] contact wherever a yarn of one layer passes a
+/// Joins the layers of `f` (each yarn's [`Yarn::layer`](super::Yarn)) with
+/// a [`ContactKind::Layer`] contact wherever a yarn of one layer passes a
 /// yarn of another closer than `reach` times the sum of their radii, away
 /// from both segments' ends. Along each yarn, contacts keep at least one
 /// yarn radius (in `u`) from each other and from the yarn's other
-/// contacts, so no segment starts degenerate: the closest crossing wins. Returns how many were added.
-pub fn join_layers(f: &mut Fabric, layer_of_yarn: &[usize], reach: f64) -> Result<usize, TopologyError> {
-    let differ = |ya: usize, _: f64, yb: usize, _: f64| layer_of_yarn[ya] != layer_of_yarn[yb];
-    join(f, layer_of_yarn, reach, &differ, ContactKind::Layer)
+/// contacts, so no segment starts degenerate: the closest crossing wins.
+/// Returns how many were added.
+pub fn join_layers(f: &mut Fabric, reach: f64) -> Result<usize, TopologyError> {
+    join(f, reach, &|_, _, _, _| true, ContactKind::Layer)
 }
 
 /// Sews layer `top` onto layer `bottom`: like [`join_layers`], but only
@@ -129,28 +129,33 @@ pub fn join_layers(f: &mut Fabric, layer_of_yarn: &[usize], reach: f64) -> Resul
 /// get the crossings they ask for. Returns how many were added.
 pub fn sew(
     f: &mut Fabric,
-    layer_of_yarn: &[usize],
     (top, bottom): (usize, usize),
     reach: f64,
     along: &dyn Fn(usize, f64) -> bool,
 ) -> Result<usize, TopologyError> {
+    let layer: Vec<usize> = f.yarns.iter().map(|y| y.layer).collect();
     let on_seam = |ya: usize, ua: f64, yb: usize, ub: f64| {
-        let (la, lb) = (layer_of_yarn[ya], layer_of_yarn[yb]);
+        let (la, lb) = (layer[ya], layer[yb]);
         (la == top && lb == bottom && along(ya, ua)) || (lb == top && la == bottom && along(yb, ub))
     };
-    join(f, layer_of_yarn, reach, &on_seam, ContactKind::Seam)
+    join(f, reach, &on_seam, ContactKind::Seam)
 }
 
-/// The crossings `accept(yarn_a, u_a, yarn_b, u_b)` takes, as contacts of
-/// `kind` (see [`join_layers`]); a seam's points get fixed `u`.
+/// The crossings between yarns of two layers that `accept(yarn_a, u_a,
+/// yarn_b, u_b)` takes, as contacts of `kind` (see [`join_layers`]); a
+/// seam's points get fixed `u`.
 fn join(
     f: &mut Fabric,
-    layer_of_yarn: &[usize],
     reach: f64,
     accept: &dyn Fn(usize, f64, usize, f64) -> bool,
     kind: ContactKind,
 ) -> Result<usize, TopologyError> {
-    check_layers(f, layer_of_yarn)?;
+    if f.yarns.iter().flat_map(|y| &y.points).any(|p| p.eil) {
+        return Err(TopologyError::Internal(
+            "layers are joined on a state without EIL points".into(),
+        ));
+    }
+    let layer_of_yarn: Vec<usize> = f.yarns.iter().map(|y| y.layer).collect();
     if !(reach.is_finite() && reach > 0.0) {
         return Err(TopologyError::BadOption {
             name: "reach",
@@ -215,22 +220,6 @@ fn join(
         .collect();
     insert_contacts(f, &accepted, &upper_first, kind, kind == ContactKind::Seam);
     Ok(added)
-}
-
-fn check_layers(f: &Fabric, layer_of_yarn: &[usize]) -> Result<(), TopologyError> {
-    if layer_of_yarn.len() != f.yarns.len() {
-        return Err(TopologyError::Internal(format!(
-            "{} layer indices for {} yarns",
-            layer_of_yarn.len(),
-            f.yarns.len()
-        )));
-    }
-    if f.yarns.iter().flat_map(|y| &y.points).any(|p| p.eil) {
-        return Err(TopologyError::Internal(
-            "layers are joined on a state without EIL points".into(),
-        ));
-    }
-    Ok(())
 }
 
 /// Adds one contact per pair, on a new node at the midpoint of the two

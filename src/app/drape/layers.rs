@@ -15,8 +15,6 @@ pub struct Layered {
     pub fabric: Fabric,
     /// `node_maps[k][i]`: the layered fabric's index of patch `k`'s node `i`.
     pub node_maps: Vec<Vec<usize>>,
-    /// Each yarn's patch.
-    pub layer_of_yarn: Vec<usize>,
     pub layer_contacts: usize,
     pub seam_contacts: usize,
 }
@@ -69,7 +67,6 @@ pub fn build_layers(base: &Fabric, lp: &LayersParams) -> Result<Layered, LayersE
         })
         .collect();
     let (mut fabric, node_maps) = stack_layers_mapped(&patches, 0.0)?;
-    let layer_of_yarn: Vec<usize> = fabric.yarns.iter().map(|y| y.layer).collect();
     // Seam points are chosen on the unplaced fabric: its own edges.
     let (lo, hi) = base.nodes.iter().fold(
         (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
@@ -99,14 +96,13 @@ pub fn build_layers(base: &Fabric, lp: &LayersParams) -> Result<Layered, LayersE
             let s = (u - p0.u) / (p1.u - p0.u);
             near_edge(&base.nodes[p0.node].x.lerp(&base.nodes[p1.node].x, s))
         };
-        seam_contacts += sew(&mut fabric, &layer_of_yarn, (seam.top, seam.bottom), lp.reach, &along)?;
+        seam_contacts += sew(&mut fabric, (seam.top, seam.bottom), lp.reach, &along)?;
     }
     // After the seams, so that they get the crossings they ask for.
-    let layer_contacts = join_layers(&mut fabric, &layer_of_yarn, lp.reach)?;
+    let layer_contacts = join_layers(&mut fabric, lp.reach)?;
     Ok(Layered {
         fabric,
         node_maps,
-        layer_of_yarn,
         layer_contacts,
         seam_contacts,
     })
