@@ -140,6 +140,20 @@ fn every_example_scene_loads() {
     assert!(n >= 5, "{n} scenes");
 }
 
+/// `knitsim drape INPUT --no-relax --scene SCENE -o OUT`.
+fn drape_as_is(input: &Path, scene: &Path, out: &Path) -> std::process::Output {
+    knitsim()
+        .arg("drape")
+        .arg(input)
+        .arg("--no-relax")
+        .arg("--scene")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
 /// The shipped layered scenes on an 8 x 8 weave (`topology::weave`), cut
 /// to 30 ms: the summary reports the layers, their contacts and seams, and
 /// what was removed; a seam onto a missing patch is an error.
@@ -162,18 +176,7 @@ fn layered_scenes_join_sew_and_report_their_layers() {
         let path = dir.path().join(format!("{name}.json"));
         std::fs::write(&path, scene.to_string()).unwrap();
         let out = dir.path().join(name);
-        let run = knitsim()
-            .args([
-                "drape",
-                cloth.to_str().unwrap(),
-                "--no-relax",
-                "--scene",
-                path.to_str().unwrap(),
-                "-o",
-            ])
-            .arg(&out)
-            .output()
-            .unwrap();
+        let run = drape_as_is(&cloth, &path, &out);
         let summary: serde_json::Value = serde_json::from_str(
             &std::fs::read_to_string(out.join("summary.json"))
                 .unwrap_or_else(|e| panic!("{name}: no summary ({e}): {}", String::from_utf8_lossy(&run.stderr))),
@@ -192,18 +195,7 @@ fn layered_scenes_join_sew_and_report_their_layers() {
         r#"{"layers": {"patches": [{}], "seams": [{"top": 1, "bottom": 0, "edges": ["left"]}]}}"#,
     )
     .unwrap();
-    let run = knitsim()
-        .args([
-            "drape",
-            cloth.to_str().unwrap(),
-            "--no-relax",
-            "--scene",
-            bad.to_str().unwrap(),
-            "-o",
-        ])
-        .arg(dir.path().join("bad"))
-        .output()
-        .unwrap();
+    let run = drape_as_is(&cloth, &bad, &dir.path().join("bad"));
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success() && err.contains("seams[0]"), "{err}");
 }
