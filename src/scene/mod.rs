@@ -15,7 +15,7 @@
 //! - stiffnesses, radii and densities (`rod.radius`, `ks`, `kb`, `rho`,
 //!   `kc_factor`, `obstacle_stiffness`, `contact.thickness`,
 //!   `stiffness_scale`, `max_stiffness_factor`, `penalty_stiffness`) are
-//!   above 0; the other scalars (`mu`, `kf`, `kw`, `ksh`, `kp`, the shear
+//!   above 0; the other scalars (`mu`, `kf`, `kw_factor`, `ksh_factor`, `kp`, the shear
 //!   jamming pair, the `assign` fractions, `separation.min_pull`, the
 //!   remaining `contact` factors) are 0 or above (`crate::checked`);
 //! - obstacles: a sphere's and a cylinder's radius and a box's half

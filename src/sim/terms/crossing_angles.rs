@@ -15,7 +15,7 @@ pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
         if p.terms.wrapping && c.kind == ContactKind::Stitch {
             for (role, front) in [(0, true), (1, false)] {
                 if let Some(d) = disc.wrap_dofs(ci, front) {
-                    wt.push(Wrapping::new(rp.kw, t.rest.wrap_rest[ci][role]));
+                    wt.push(Wrapping::new(rp.kw(), t.rest.wrap_rest[ci][role]));
                     wd.push(d);
                 }
             }
@@ -23,7 +23,7 @@ pub fn build(t: &TermInputs) -> Vec<Box<dyn AnyStencilSet>> {
         if p.terms.shear && matches!(c.kind, ContactKind::Float | ContactKind::Layer) {
             if let Some(d) = disc.shear_dofs(ci) {
                 sht.push(Shear::new(
-                    rp.ksh,
+                    rp.ksh(),
                     t.rest.shear_rest[ci],
                     rp.shear_jam_angle,
                     rp.shear_jam_gain,
