@@ -71,6 +71,9 @@ pub struct StateChecks {
     /// Smallest centre-line distance of a checked pair over the sum of the
     /// pair's radii (infinite when no pair came within reach).
     pub min_gap_ratio: f64,
+    /// Where the deepest overlapping pair is: the mean of its four end
+    /// points (m), to find it in an exported state.
+    pub deepest_overlap_at: Option<[f64; 3]>,
 }
 
 impl std::fmt::Display for StateChecks {
@@ -82,7 +85,17 @@ impl std::fmt::Display for StateChecks {
             self.non_finite,
             self.overlaps,
             100.0 * self.max_strain
-        )
+        )?;
+        if let Some(at) = self.deepest_overlap_at {
+            write!(
+                f,
+                "; deepest overlap at ({:.1}, {:.1}, {:.1}) mm",
+                1e3 * at[0],
+                1e3 * at[1],
+                1e3 * at[2]
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -199,10 +212,14 @@ pub fn check_state(f: &Fabric, params: &SimParams, limits: &Limits) -> StateChec
             continue;
         }
         let ratio = d / sum(i, j);
-        out.min_gap_ratio = out.min_gap_ratio.min(ratio);
         if ratio < limits.overlap_fraction {
             out.overlaps += 1;
+            if ratio < out.min_gap_ratio {
+                let mean = (x[a.nodes[0]] + x[a.nodes[1]] + x[b.nodes[0]] + x[b.nodes[1]]) / 4.0;
+                out.deepest_overlap_at = Some([mean.x, mean.y, mean.z]);
+            }
         }
+        out.min_gap_ratio = out.min_gap_ratio.min(ratio);
     }
     out
 }

@@ -43,6 +43,13 @@ fn yarns_inside_each_other_overlap_and_are_rejected_only_with_contact() {
     // Four segments each side, every one within 0.1 mm of up to three.
     assert!(c.overlaps >= 4, "{c:?}");
     assert!((c.min_gap_ratio - 0.25).abs() < 1e-9, "{c:?}");
+    // The deepest pair is found between the two yarns, along them.
+    let at = c.deepest_overlap_at.expect("an overlap has a place");
+    assert!(
+        (at[1] - 0.05e-3).abs() < 1e-12 && at[2] == 0.0 && (0.0..=4e-3).contains(&at[0]),
+        "{at:?}"
+    );
+    assert!(c.to_string().contains("deepest overlap at ("), "{c}");
     assert_eq!(
         c.rejection(&Limits::default(), true),
         Some(Rejection::Overlaps(c.overlaps))
@@ -50,7 +57,7 @@ fn yarns_inside_each_other_overlap_and_are_rejected_only_with_contact() {
     assert_eq!(c.rejection(&Limits::default(), false), None);
     // Touching but not inside: 0.3 mm apart is 0.75 of the radii's sum.
     let c = check_state(&parallel(0.3e-3), &params(), &Limits::default());
-    assert_eq!(c.overlaps, 0, "{c:?}");
+    assert_eq!((c.overlaps, c.deepest_overlap_at), (0, None), "{c:?}");
 }
 
 #[test]
