@@ -13,39 +13,16 @@
 //! ignored with what they measure; `cargo test --release --test
 //! knit_fabric_facts -- --ignored --nocapture` runs them.
 
-use knitsim::app::load_fabric;
-use knitsim::sim::{relax, RelaxOptions, Simulation};
-use knitsim::solver::linear::LinearSolver;
-use knitsim::topology::{CompileOptions, StitchGrid};
+mod common;
 
 /// A relaxed 12 x 12 swatch of `chart` (one chart line per row, bottom
-/// row last): its extents in the swatch frame (width along the courses,
-/// height along the wales, depth across; m) and its measured stitches per
-/// 10 cm.
+/// row last, each indented): its extents in the swatch frame (width along
+/// the courses, height along the wales, depth across; m) and its measured
+/// stitches per 10 cm.
 fn relaxed(chart: &str) -> ([f64; 3], f64) {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("swatch.knit");
-    let text = format!(
-        "name: swatch\ngauge: 24 sts x 32 rows / 10 cm\nyarn MC: #ffffff\nwidth: 12\nheight: 12\n\n\
-         legend:\n  . = knit\n  - = purl\n\nchart:\n{chart}"
-    );
-    std::fs::write(&path, text).unwrap();
-    let loaded = load_fabric(&path, &CompileOptions::default()).unwrap();
-    let grid = StitchGrid::of(&loaded.fabric);
-    let params = knitsim::scene::params_for(&loaded.fabric, None).unwrap();
-    let mut sim = Simulation::new(
-        loaded.fabric,
-        params,
-        LinearSolver::direct(),
-        RelaxOptions::default().h_initial,
-    );
-    let opts = RelaxOptions {
-        tol: 0.1,
-        ..RelaxOptions::default()
-    };
-    let report = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
-    assert!(report.converged, "{report:?}");
-    let state = sim.snapshot();
+    let path = common::swatch_file(dir.path(), "24 sts x 32 rows", "", chart);
+    let (state, grid) = common::relaxed_swatch(&path);
     let extents = grid.extents(&state).expect("a swatch has a stitch grid");
     let gauge = grid.measure(&state).expect("a swatch has a stitch grid");
     println!(

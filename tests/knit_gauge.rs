@@ -5,46 +5,16 @@
 //! `topology::measure`); a yarn too thick for its gauge is named, with the
 //! file, line and column of its `yarn` line.
 
-use knitsim::app::load_fabric;
-use knitsim::sim::{relax, RelaxOptions, Simulation};
-use knitsim::solver::linear::LinearSolver;
-use knitsim::topology::{CompileOptions, StitchGrid};
+mod common;
 
-fn swatch(dir: &std::path::Path, gauge: &str, yarn: &str) -> std::path::PathBuf {
-    let text = format!(
-        "name: swatch\ngauge: {gauge} / 10 cm\nyarn MC: #ffffff{yarn}\nwidth: 12\nheight: 12\n\n\
-         legend:\n  . = knit\n\nchart:\n  .\n"
-    );
-    let path = dir.join("swatch.knit");
-    std::fs::write(&path, text).unwrap();
-    path
-}
+use knitsim::app::load_fabric;
+use knitsim::topology::CompileOptions;
 
 /// Measured (stitches, rows) per 10 cm of the relaxed swatch.
 fn measured(gauge: &str) -> (f64, f64) {
     let dir = tempfile::tempdir().unwrap();
-    let loaded = load_fabric(&swatch(dir.path(), gauge, ""), &CompileOptions::default()).unwrap();
-    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
-    let grid = StitchGrid::of(&loaded.fabric);
-    let params = knitsim::scene::params_for(&loaded.fabric, None).unwrap();
-    let mut sim = Simulation::new(
-        loaded.fabric,
-        params,
-        LinearSolver::direct(),
-        RelaxOptions::default().h_initial,
-    );
-    // The gauge is counted in the middle of the swatch, which has settled
-    // long before the edge roll that the last decades of the default
-    // tolerance finish (docs/RELAX.md, "What the default tolerance means").
-    let opts = RelaxOptions {
-        tol: 0.1,
-        ..RelaxOptions::default()
-    };
-    let report = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
-    assert!(report.converged, "{report:?}");
-    let g = grid
-        .measure(&sim.snapshot())
-        .expect("a stockinette swatch has a stitch grid");
+    let (state, grid) = common::relaxed_swatch(&common::swatch_file(dir.path(), gauge, "", "  .\n"));
+    let g = grid.measure(&state).expect("a stockinette swatch has a stitch grid");
     println!("{gauge}: measured {:.1} x {:.1}", g.stitches_per_10cm, g.rows_per_10cm);
     (g.stitches_per_10cm, g.rows_per_10cm)
 }
@@ -80,7 +50,7 @@ fn chunky_stockinette_measures_its_gauge() {
 fn a_yarn_too_thick_for_its_gauge_is_named_at_its_line() {
     let dir = tempfile::tempdir().unwrap();
     // A 1.5 mm (radius) yarn cannot knit 32 stitches per 10 cm.
-    let path = swatch(dir.path(), "32 sts x 44 rows", ", radius 1.5 mm");
+    let path = common::swatch_file(dir.path(), "32 sts x 44 rows", ", radius 1.5 mm", "  .\n");
     let loaded = load_fabric(&path, &CompileOptions::default()).unwrap();
     let jam: Vec<String> = loaded
         .warnings

@@ -208,3 +208,45 @@ pub fn sized_fabric(path: &Path, looseness: &str, min: usize) -> Fabric {
     }
     panic!("{}: no size between {min} and 40 compiles", path.display());
 }
+
+/// Writes a 12 x 12 swatch to `dir/swatch.knit`: `gauge` as in a `gauge`
+/// line without its `/ 10 cm`, `yarn` appended to the yarn line (e.g.
+/// `", radius 1.5 mm"`, or empty for the default yarn), and the chart's
+/// lines (`.` knit, `-` purl), each indented.
+pub fn swatch_file(dir: &Path, gauge: &str, yarn: &str, chart: &str) -> std::path::PathBuf {
+    let purl = if chart.contains('-') { "  - = purl\n" } else { "" };
+    let text = format!(
+        "name: swatch\ngauge: {gauge} / 10 cm\nyarn MC: #ffffff{yarn}\nwidth: 12\nheight: 12\n\n\
+         legend:\n  . = knit\n{purl}\nchart:\n{chart}"
+    );
+    let path = dir.join("swatch.knit");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Relaxes the pattern at `path` with the default settings, asserting that
+/// it compiles without warnings and converges, and returns the final state
+/// with the compiled stitch grid. The tolerance is 0.1 force scales: a
+/// swatch is measured in its middle, which has settled long before the
+/// edge roll that the last decades of the default tolerance finish
+/// (docs/RELAX.md, "What the default tolerance means").
+pub fn relaxed_swatch(path: &Path) -> (Fabric, knitsim::topology::StitchGrid) {
+    use knitsim::sim::{relax, RelaxOptions, Simulation};
+    let loaded = knitsim::app::load_fabric(path, &CompileOptions::default()).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let grid = knitsim::topology::StitchGrid::of(&loaded.fabric);
+    let params = knitsim::scene::params_for(&loaded.fabric, None).unwrap();
+    let mut sim = Simulation::new(
+        loaded.fabric,
+        params,
+        knitsim::solver::linear::LinearSolver::direct(),
+        RelaxOptions::default().h_initial,
+    );
+    let opts = RelaxOptions {
+        tol: 0.1,
+        ..RelaxOptions::default()
+    };
+    let report = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
+    assert!(report.converged, "{report:?}");
+    (sim.snapshot(), grid)
+}
