@@ -30,9 +30,10 @@
 //!   (J/rad^2) as multiples of `EI / d`, the bending stiffness of yarn
 //!   bent over one diameter (`RodParams::kw`, `RodParams::ksh`). Both are
 //!   angle energies of yarn turning around another yarn, so they scale
-//!   with the yarn: a thicker yarn knitted at a coarser gauge is the same
-//!   fabric scaled up, and relaxes to the same shape at its own gauge. At
-//!   0.27 a 0.45 mm model radius (a 0.75 mm stated yarn) gets 3e-5 J/rad^2.
+//!   with the yarn: a thicker yarn knitted at a coarser gauge keeps the
+//!   ratio of wrapping to bending, and its stockinette measures its own
+//!   gauge (docs/MODEL.md, "Wrapping"). At 0.27 a 0.45 mm model radius
+//!   (a 0.75 mm stated yarn) gets 3e-5 J/rad^2.
 //! - Shear jamming: past `shear_jam_angle` (rad, from rest) the stiffness
 //!   grows by `2 * shear_jam_gain` per radian (see `shear.rs`).
 //! - `kp` (N/m): parallel-contact penalty; like the stretch stiffness of a
