@@ -18,7 +18,7 @@ use super::knit_graph::{Direction, KnitGraph};
 use super::layout::Layout;
 use super::options::CompileOptions;
 use super::path::{Owner, Path, PathPoint};
-use super::rest_length::{assign_u, float_length, stitch_length};
+use super::rest_length::{assign_u, float_length, segment_weights, stitch_length};
 use crate::pattern::Meta;
 
 #[derive(Clone, Copy, PartialEq)]
@@ -159,7 +159,12 @@ pub fn assemble(
             .map(|s| (nodes[remap[s[1].node]].x - nodes[remap[s[0].node]].x).norm())
             .collect();
         let d = 2.0 * meta.yarns.get(*spec).map_or(0.0, |y| y.radius);
-        let u = assign_u(&lengths, &path.owners, |owner, total| match owner {
+        let head: Vec<bool> = path.points.windows(2).map(|s| s[0].head && s[1].head).collect();
+        let weights = segment_weights(&lengths, &path.owners, &head, |id| {
+            let l = &g.loops[id];
+            2.0 * l.top_row.saturating_sub(l.row + 1) as f64 * lay.h
+        });
+        let u = assign_u(&lengths, &weights, &path.owners, |owner, total| match owner {
             Owner::Loop(_) => stitch_length(lay.gauge_w, lay.gauge_h, d, meta.looseness, opts),
             Owner::Float(f) => float_length(lay.gauge_w, geo.float_kinds[f], opts),
             Owner::Connector => total * lay.connector_scale(),

@@ -347,16 +347,16 @@ impl<'a> Geometry<'a> {
                 let j = g.loops[c].parents.iter().position(|&p| p == id).unwrap_or(0);
                 let ids = self.interlocks[c][j];
                 let pr = other(child_role(g.loops[c].kind));
-                pts.push(self.store.at(ids[0], pr));
-                pts.push(self.store.at(ids[1], pr));
-                pts.push(self.store.free(apex));
-                pts.push(self.store.at(ids[2], pr));
-                pts.push(self.store.at(ids[3], pr));
+                pts.push(self.store.at(ids[0], pr).on_head());
+                pts.push(self.store.at(ids[1], pr).on_head());
+                pts.push(self.store.free(apex).on_head());
+                pts.push(self.store.at(ids[2], pr).on_head());
+                pts.push(self.store.at(ids[3], pr).on_head());
             }
             None => {
-                pts.push(self.store.free(Vec3::new(x - a, top, -depth)));
-                pts.push(self.store.free(apex));
-                pts.push(self.store.free(Vec3::new(x + a, top, -depth)));
+                pts.push(self.store.free(Vec3::new(x - a, top, -depth)).on_head());
+                pts.push(self.store.free(apex).on_head());
+                pts.push(self.store.free(Vec3::new(x + a, top, -depth)).on_head());
             }
         }
 

@@ -30,6 +30,17 @@ pub struct PathPoint {
     pub node: usize,
     pub contact: Option<(usize, Role)>,
     pub fixed_u: bool,
+    /// The point lies on its loop's head (the arc through its child's
+    /// legs); a segment between two head points of one loop is head yarn
+    /// (`rest_length::segment_weights`).
+    pub head: bool,
+}
+
+impl PathPoint {
+    /// This point, marked as lying on its loop's head.
+    pub fn on_head(self) -> Self {
+        PathPoint { head: true, ..self }
+    }
 }
 
 /// A polyline over nodes; `owners[i]` owns the segment from point `i` to `i+1`.
@@ -91,6 +102,7 @@ impl NodeStore {
             node: self.node(x),
             contact: None,
             fixed_u: true,
+            head: false,
         }
     }
     /// A new contact node at `x`; returns the contact id.
@@ -117,6 +129,7 @@ impl NodeStore {
             node: self.contacts[id].node,
             contact: Some((id, role)),
             fixed_u: false,
+            head: false,
         }
     }
     pub fn position(&self, p: &PathPoint) -> Vec3 {

@@ -34,8 +34,8 @@
 //! binds the yarn is too thick for the gauge: the pattern gets a warning
 //! naming [`jam_gauge`], the tightest gauge the yarn reaches. Looseness
 //! scales the result, floor included.
-//! A slipped loop keeps its length: it is the same yarn, stretched over two
-//! rows by the relaxation.
+//! A slipped loop keeps its length: it is the same yarn, laid out over two
+//! rows (or more) instead of one.
 //!
 //! **Float length**: `w (1 + slack)`, one stitch width plus a slack
 //! (`slip_float_slack` for slips, `strand_float_slack` for colourwork).
@@ -44,7 +44,13 @@
 //! rest length is their layout length scaled back by the layout expansion.
 //!
 //! Within an element the budget is spread over its segments in proportion to
-//! their layout length, so `u` is strictly increasing along a yarn.
+//! their weighted layout length, so `u` is strictly increasing along a
+//! yarn. Every weight is 1 except on the head of a loop laid out over more
+//! than one row ([`segment_weights`]): spread by plain length, a slipped
+//! loop's long legs would take most of its yarn and leave its head about a
+//! third of an ordinary head's, too short to let its child's two legs
+//! pass a diameter apart. The head is weighted so that it gets the yarn an
+//! ordinary loop's head gets, and the legs share the rest.
 
 use super::knit_graph::FloatKind;
 use super::options::CompileOptions;
@@ -103,32 +109,70 @@ pub fn float_length(w: f64, kind: FloatKind, opts: &CompileOptions) -> f64 {
     w * (1.0 + slack)
 }
 
-/// Material coordinates of a polyline: `lengths[i]` is the layout length of
-/// segment `i`, `owners[i]` its element, and `budget(owner, layout_total)`
-/// the rest length of an element whose segments add up to `layout_total`.
-/// Each element is a contiguous run of segments.
-pub fn assign_u(lengths: &[f64], owners: &[Owner], budget: impl Fn(Owner, f64) -> f64) -> Vec<f64> {
-    let mut u = Vec::with_capacity(lengths.len() + 1);
-    u.push(0.0);
+/// The contiguous runs of segments with one owner, as `(owner, start, end)`.
+fn runs(owners: &[Owner]) -> impl Iterator<Item = (Owner, usize, usize)> + '_ {
     let mut start = 0;
-    while start < lengths.len() {
-        let owner = owners[start];
+    std::iter::from_fn(move || {
+        let owner = *owners.get(start)?;
         let mut end = start;
-        while end < lengths.len() && owners[end] == owner {
+        while end < owners.len() && owners[end] == owner {
             end += 1;
         }
+        let run = (owner, start, end);
+        start = end;
+        Some(run)
+    })
+}
+
+/// The spreading weight of every segment (module docs): 1, except on the
+/// head of a loop whose legs are laid out `extra(loop)` longer (both legs
+/// together) than an ordinary loop's. `head[i]` says whether segment `i`
+/// lies on its loop's head. With layout lengths `H` (head) and `T`
+/// (loop), the head weight `W = (T - H) / (T - extra - H)` gives the head
+/// the share `H / (T - extra)` of the budget, an ordinary loop's.
+pub fn segment_weights(lengths: &[f64], owners: &[Owner], head: &[bool], extra: impl Fn(usize) -> f64) -> Vec<f64> {
+    let mut w = vec![1.0; lengths.len()];
+    for (owner, start, end) in runs(owners) {
+        let Owner::Loop(id) = owner else { continue };
+        let extra = extra(id);
+        if extra <= 0.0 {
+            continue;
+        }
         let total: f64 = lengths[start..end].iter().sum();
+        let h: f64 = (start..end).filter(|&i| head[i]).map(|i| lengths[i]).sum();
+        let ordinary_rest = total - extra - h;
+        if h <= 0.0 || ordinary_rest <= 0.0 {
+            continue;
+        }
+        let weight = (total - h) / ordinary_rest;
+        for i in (start..end).filter(|&i| head[i]) {
+            w[i] = weight;
+        }
+    }
+    w
+}
+
+/// Material coordinates of a polyline: `lengths[i]` is the layout length of
+/// segment `i`, `weights[i]` its spreading weight ([`segment_weights`]),
+/// `owners[i]` its element, and `budget(owner, layout_total)` the rest
+/// length of an element whose segments add up to `layout_total`. Each
+/// element is a contiguous run of segments.
+pub fn assign_u(lengths: &[f64], weights: &[f64], owners: &[Owner], budget: impl Fn(Owner, f64) -> f64) -> Vec<f64> {
+    let mut u = Vec::with_capacity(lengths.len() + 1);
+    u.push(0.0);
+    for (owner, start, end) in runs(owners) {
+        let total: f64 = lengths[start..end].iter().sum();
+        let weighted: f64 = (start..end).map(|i| lengths[i] * weights[i]).sum();
         let rest = budget(owner, total);
-        for &len in &lengths[start..end] {
-            let share = if total > 0.0 {
-                rest * len / total
+        for i in start..end {
+            let share = if weighted > 0.0 {
+                rest * lengths[i] * weights[i] / weighted
             } else {
                 rest / (end - start) as f64
             };
             let last = u.last().copied().unwrap_or(0.0);
             u.push(last + share);
         }
-        start = end;
     }
     u
 }
@@ -172,11 +216,37 @@ mod tests {
     }
 
     #[test]
+    fn a_slipped_loop_gives_its_head_an_ordinary_heads_share() {
+        // An ordinary loop: legs 2 + 2, head 1 (layout total 5). Its
+        // slipped twin has legs 4 + 4 (extra 4). Same budget 10 for both.
+        let loop0 = [Owner::Loop(0); 3];
+        let loop1 = [Owner::Loop(1); 3];
+        let head = [false, true, false];
+        let extra = |id: usize| if id == 1 { 4.0 } else { 0.0 };
+        let budget = |_: Owner, _: f64| 10.0;
+
+        let ordinary = [2.0, 1.0, 2.0];
+        let w0 = segment_weights(&ordinary, &loop0, &head, extra);
+        assert_eq!(w0, vec![1.0; 3]);
+        let u0 = assign_u(&ordinary, &w0, &loop0, budget);
+        assert_eq!(u0, vec![0.0, 4.0, 6.0, 10.0]);
+
+        let slipped = [4.0, 1.0, 4.0];
+        let w1 = segment_weights(&slipped, &loop1, &head, extra);
+        let u1 = assign_u(&slipped, &w1, &loop1, budget);
+        // Spread by length the head would get 10 / 9; weighted it gets the
+        // ordinary head's 2, and the legs share the other 8.
+        assert!((u1[2] - u1[1] - 2.0).abs() < 1e-12, "{u1:?}");
+        assert!((u1[1] - 4.0).abs() < 1e-12 && (u1[3] - 10.0).abs() < 1e-12, "{u1:?}");
+    }
+
+    #[test]
     fn budgets_are_spread_by_length() {
         // Two segments of one loop (lengths 1 and 3) get 2 and 6 of a budget
         // of 8; a connector of length 2 keeps 2.
         let u = assign_u(
             &[1.0, 3.0, 2.0],
+            &[1.0; 3],
             &[Owner::Loop(0), Owner::Loop(0), Owner::Connector],
             |o, total| match o {
                 Owner::Loop(_) => 8.0,
