@@ -18,7 +18,7 @@ use super::knit_graph::{Direction, KnitGraph};
 use super::layout::Layout;
 use super::options::CompileOptions;
 use super::path::{Owner, Path, PathPoint};
-use super::rest_length::{assign_u, float_length, segment_weights, stitch_length};
+use super::rest_length::{assign_u, float_length, ordinary_loop_lengths, segment_weights, stitch_length};
 use crate::pattern::Meta;
 
 #[derive(Clone, Copy, PartialEq)]
@@ -151,20 +151,34 @@ pub fn assemble(
         }
     }
 
+    let all_lengths: Vec<Vec<f64>> = paths
+        .iter()
+        .map(|(_, path)| {
+            path.points
+                .windows(2)
+                .map(|s| (nodes[remap[s[1].node]].x - nodes[remap[s[0].node]].x).norm())
+                .collect()
+        })
+        .collect();
+    // A slipped or held loop is drawn over more than one row; its head is
+    // given an ordinary loop's share of the yarn (`rest_length` docs).
+    let elongated = |id: usize| g.loops[id].top_row > g.loops[id].row + 1;
+    let mut ordinary = ordinary_loop_lengths(
+        all_lengths
+            .iter()
+            .zip(&paths)
+            .map(|(l, (_, p))| (&l[..], &p.owners[..])),
+        |id| !elongated(id),
+    );
+    ordinary.sort_by(f64::total_cmp);
+    let reference = ordinary.get(ordinary.len() / 2).copied().unwrap_or(0.0);
+
     let mut yarns = Vec::with_capacity(paths.len());
-    for (yi, (spec, path)) in paths.iter().enumerate() {
-        let lengths: Vec<f64> = path
-            .points
-            .windows(2)
-            .map(|s| (nodes[remap[s[1].node]].x - nodes[remap[s[0].node]].x).norm())
-            .collect();
+    for (yi, ((spec, path), lengths)) in paths.iter().zip(&all_lengths).enumerate() {
         let d = 2.0 * meta.yarns.get(*spec).map_or(0.0, |y| y.radius);
         let head: Vec<bool> = path.points.windows(2).map(|s| s[0].head && s[1].head).collect();
-        let weights = segment_weights(&lengths, &path.owners, &head, |id| {
-            let l = &g.loops[id];
-            2.0 * l.top_row.saturating_sub(l.row + 1) as f64 * lay.h
-        });
-        let u = assign_u(&lengths, &weights, &path.owners, |owner, total| match owner {
+        let weights = segment_weights(lengths, &path.owners, &head, elongated, reference);
+        let u = assign_u(lengths, &weights, &path.owners, |owner, total| match owner {
             Owner::Loop(_) => stitch_length(lay.gauge_w, lay.gauge_h, d, meta.looseness, opts),
             Owner::Float(f) => float_length(lay.gauge_w, geo.float_kinds[f], opts),
             Owner::Connector => total * lay.connector_scale(),

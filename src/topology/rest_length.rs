@@ -124,27 +124,53 @@ fn runs(owners: &[Owner]) -> impl Iterator<Item = (Owner, usize, usize)> + '_ {
     })
 }
 
+/// The layout length of every loop that `ordinary` accepts, one per run,
+/// over several polylines (`(lengths, owners)` each).
+pub fn ordinary_loop_lengths<'a>(
+    paths: impl IntoIterator<Item = (&'a [f64], &'a [Owner])>,
+    ordinary: impl Fn(usize) -> bool,
+) -> Vec<f64> {
+    let mut out = Vec::new();
+    for (lengths, owners) in paths {
+        for (owner, start, end) in runs(owners) {
+            if matches!(owner, Owner::Loop(id) if ordinary(id)) {
+                out.push(lengths[start..end].iter().sum());
+            }
+        }
+    }
+    out
+}
+
 /// The spreading weight of every segment (module docs): 1, except on the
-/// head of a loop whose legs are laid out `extra(loop)` longer (both legs
-/// together) than an ordinary loop's. `head[i]` says whether segment `i`
-/// lies on its loop's head. With layout lengths `H` (head) and `T`
-/// (loop), the head weight `W = (T - H) / (T - extra - H)` gives the head
-/// the share `H / (T - extra)` of the budget, an ordinary loop's.
-pub fn segment_weights(lengths: &[f64], owners: &[Owner], head: &[bool], extra: impl Fn(usize) -> f64) -> Vec<f64> {
+/// head of a loop that `elongated` names (drawn over more than one row).
+/// `head[i]` says whether segment `i` lies on its loop's head, and
+/// `reference` is an ordinary loop's layout length (the median of
+/// [`ordinary_loop_lengths`]). With layout lengths `H` (head) and `T`
+/// (loop), the head weight `W = (T - H) / (reference - H)` gives the head
+/// the share `H / reference` of the budget, an ordinary loop's.
+///
+/// The reference is measured rather than derived from the row height: an
+/// elongated loop's legs also bend around the floats that cross them, so
+/// a loop slipped for one row is laid out more than twice as long as an
+/// ordinary one.
+pub fn segment_weights(
+    lengths: &[f64],
+    owners: &[Owner],
+    head: &[bool],
+    elongated: impl Fn(usize) -> bool,
+    reference: f64,
+) -> Vec<f64> {
     let mut w = vec![1.0; lengths.len()];
     for (owner, start, end) in runs(owners) {
-        let Owner::Loop(id) = owner else { continue };
-        let extra = extra(id);
-        if extra <= 0.0 {
+        if !matches!(owner, Owner::Loop(id) if elongated(id)) {
             continue;
         }
         let total: f64 = lengths[start..end].iter().sum();
         let h: f64 = (start..end).filter(|&i| head[i]).map(|i| lengths[i]).sum();
-        let ordinary_rest = total - extra - h;
-        if h <= 0.0 || ordinary_rest <= 0.0 {
+        if h <= 0.0 || reference <= h || total <= reference {
             continue;
         }
-        let weight = (total - h) / ordinary_rest;
+        let weight = (total - h) / (reference - h);
         for i in (start..end).filter(|&i| head[i]) {
             w[i] = weight;
         }
@@ -218,21 +244,26 @@ mod tests {
     #[test]
     fn a_slipped_loop_gives_its_head_an_ordinary_heads_share() {
         // An ordinary loop: legs 2 + 2, head 1 (layout total 5). Its
-        // slipped twin has legs 4 + 4 (extra 4). Same budget 10 for both.
+        // slipped twin has legs 4 + 4. Same budget 10 for both.
         let loop0 = [Owner::Loop(0); 3];
         let loop1 = [Owner::Loop(1); 3];
         let head = [false, true, false];
-        let extra = |id: usize| if id == 1 { 4.0 } else { 0.0 };
+        let elongated = |id: usize| id == 1;
         let budget = |_: Owner, _: f64| 10.0;
 
         let ordinary = [2.0, 1.0, 2.0];
-        let w0 = segment_weights(&ordinary, &loop0, &head, extra);
+        let slipped = [4.0, 1.0, 4.0];
+        let reference = ordinary_loop_lengths([(&ordinary[..], &loop0[..]), (&slipped[..], &loop1[..])], |id| {
+            !elongated(id)
+        });
+        assert_eq!(reference, vec![5.0]);
+
+        let w0 = segment_weights(&ordinary, &loop0, &head, elongated, 5.0);
         assert_eq!(w0, vec![1.0; 3]);
         let u0 = assign_u(&ordinary, &w0, &loop0, budget);
         assert_eq!(u0, vec![0.0, 4.0, 6.0, 10.0]);
 
-        let slipped = [4.0, 1.0, 4.0];
-        let w1 = segment_weights(&slipped, &loop1, &head, extra);
+        let w1 = segment_weights(&slipped, &loop1, &head, elongated, 5.0);
         let u1 = assign_u(&slipped, &w1, &loop1, budget);
         // Spread by length the head would get 10 / 9; weighted it gets the
         // ordinary head's 2, and the legs share the other 8.
