@@ -242,7 +242,9 @@ fn dynamics_errors_name_line_and_column() {
 
 /// What the default scene must do: `knitsim drape PATTERN -o OUT` writes
 /// `drape.pvd` with at least 10 frames, meshio reads the last one, the
-/// swatch hangs (vertical extent at least 25% of its flat width) and no
+/// swatch comes to rest within the scene's duration (one that slides off
+/// the sphere falls on at the air drag's terminal speed and never does),
+/// it hangs (vertical extent at least 25% of its flat width) and no
 /// node comes closer to the sphere's centre than its radius plus 0.9 yarn
 /// radii in any frame, read back from the frames themselves. `size`
 /// resizes the pattern to `size x size` stitches first.
@@ -266,11 +268,7 @@ fn drapes_over_the_default_sphere(stem: &str, size: Option<usize>) {
         .arg(&out)
         .output()
         .unwrap();
-    assert!(
-        matches!(run.status.code(), Some(0) | Some(3)),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
     let frames = pvd_frames(&out.join("drape.pvd"));
     assert!(frames.len() >= 10, "{} frames", frames.len());
     let (fabric, _) =
@@ -297,6 +295,7 @@ fn drapes_over_the_default_sphere(stem: &str, size: Option<usize>) {
         "{} frames; hangs {hang:.1} mm of a {flat:.1} mm flat width",
         frames.len()
     );
+    assert_eq!(summary["at_rest"].as_bool(), Some(true), "not at rest: {summary}");
     assert!(hang >= 0.25 * flat, "hangs {hang} mm of {flat} mm");
     let checks = &summary["checks"];
     assert_eq!(checks["non_finite"].as_u64(), Some(0), "{checks}");
@@ -331,10 +330,11 @@ fn drapes_over_the_default_sphere(stem: &str, size: Option<usize>) {
     assert!(closest >= 0.9, "a node {closest} yarn radii from the sphere");
 }
 
-/// The default scene on an 8 x 8 linen stitch, small enough for CI.
+/// The default scene on a 10 x 10 linen stitch, small enough for CI. At 8
+/// x 8 and 6 x 6 the curled swatch slides off the sphere.
 #[test]
 fn default_scene_drapes_a_small_linen_stitch_over_the_sphere() {
-    drapes_over_the_default_sphere("linen-stitch", Some(8));
+    drapes_over_the_default_sphere("linen-stitch", Some(10));
 }
 
 /// The default scene on the shipped linen stitch (20 x 16). Run it with
