@@ -8,6 +8,7 @@
 //! still a contact: its two yarn points share one node whose position is
 //! finite and whose `u` stays strictly inside both yarns (no unravelling).
 
+use knitsim::app::{check_state, Limits};
 use knitsim::rod::bending::BendingHessian;
 use knitsim::rod::params::RodParams;
 use knitsim::scene::params_for;
@@ -332,4 +333,44 @@ fn relaxation_keeps_its_eil_points_and_restores_the_release_rule() {
     relax(&mut sim, short, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
     assert_eq!(sim.params().assign.release_fraction, release);
     assert!(!sim.schedule().keep_eil);
+}
+
+/// The tuck pattern as `knitsim relax` runs it (its own parameters, so
+/// thickness contact on; the default tolerance) converges with no two
+/// yarns inside each other. A tuck's head and the head of the loop it sits
+/// on are pulled through by one child: laid too close together, the contact
+/// filter takes them for neighbours and lets them sink into each other
+/// (docs/MODEL.md, "Stitch contact layout", "Tuck").
+#[test]
+fn the_tuck_pattern_relaxes_with_contact_and_no_overlaps() {
+    // The shipped pattern as it is, at 9 x 8 stitches (two repeats wide).
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/tuck.knit");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let resized: String = text
+        .lines()
+        .map(|l| match l {
+            l if l.starts_with("width:") => "width: 9".to_string(),
+            l if l.starts_with("height:") => "height: 8".to_string(),
+            l => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let parsed = knitsim::pattern::parse_str(&resized, "tuck.knit").unwrap();
+    let fabric = knitsim::topology::compile(&parsed.pattern, &knitsim::topology::CompileOptions::default()).unwrap();
+    let params = params_for(&fabric, None).unwrap();
+    assert!(params.contact.is_some(), "knitsim relax has thickness contact on");
+    let opts = RelaxOptions::default();
+    let mut sim = Simulation::new(fabric, params, LinearSolver::direct(), opts.h_initial);
+    let rep = relax(&mut sim, opts, None, &mut |_, _| {}, &mut |_, _| {}).unwrap();
+    let checks = check_state(&sim.snapshot(), sim.params(), &Limits::default());
+    println!(
+        "tuck: {} steps, {} its, residual {:.2e}, {} overlaps, smallest gap {:.2} of the radii's sum",
+        rep.steps, rep.newton_iterations, rep.residual, checks.overlaps, checks.min_gap_ratio
+    );
+    assert!(rep.converged, "not converged: residual {:.2e}", rep.residual);
+    assert_eq!(
+        checks.overlaps, 0,
+        "deepest overlap at {:?} m",
+        checks.deepest_overlap_at
+    );
 }

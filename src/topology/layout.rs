@@ -62,7 +62,12 @@ pub struct LayoutOptions {
     /// Vertical spread between floats of different passes on one leg.
     pub float_spread: f64,
     /// A tuck loop lies this far behind the loop it is on: same outline,
-    /// stacked towards the WS (its head nodes too).
+    /// stacked towards the WS (its head nodes too). The child pulled through
+    /// both heads runs about this far between them, and must run more than
+    /// one thickness, with room for its sticking contacts to creep: the
+    /// contact filter (docs/MODEL.md, "Thickness contact") counts two heads
+    /// linked through the child within one thickness of yarn as neighbours,
+    /// and lets them sink into each other.
     pub tuck_depth: f64,
     /// Distance of the innermost edge strand from the fabric edge (flat).
     pub edge_gap: f64,
@@ -88,7 +93,7 @@ impl Default for LayoutOptions {
             float_spread: 1.1,
             float_drop: 1.0,
             float_drop_shift: 0.4,
-            tuck_depth: 1.2,
+            tuck_depth: 2.0,
             edge_gap: 1.3,
             carry_spacing: 1.2,
             min_tube_radius: 6.0,

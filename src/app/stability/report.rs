@@ -78,11 +78,13 @@ fn markdown(w: &mut dyn Write, opts: &SuiteOptions, rows: &[CaseRow]) -> std::io
          segment pairs, centre lines closer than {} of the sum of their radii (must be 0 with \
          contact on); largest axial strain `| |dx|/du - 1 |` over real segments (must stay below \
          {:.0}%). `gap` is the smallest centre-line distance of a checked pair over the sum of \
-         its radii. `residual` is the relaxer's stopping quantity (largest free force / `ks`, \
-         tolerance 1e-3). A run whose final state fails a check is reported not converged. A \
-         case that ended in an error has no final state: `-`.\n",
+         its radii. `residual` is the relaxer's stopping quantity (largest free force over the \
+         force scale, docs/RELAX.md, \"Stopping test\"; tolerance {}). A run whose final state \
+         fails a check is reported not converged. A case that ended in an error has no final \
+         state: `-`.\n",
         limits.overlap_fraction,
-        100.0 * limits.max_strain
+        100.0 * limits.max_strain,
+        crate::sim::RelaxOptions::default().tol
     )?;
     writeln!(
         w,
