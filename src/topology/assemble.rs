@@ -160,9 +160,15 @@ pub fn assemble(
                 .collect()
         })
         .collect();
-    // A slipped or held loop is drawn over more than one row; its head is
-    // given an ordinary loop's share of the yarn (`rest_length` docs).
-    let elongated = |id: usize| g.loops[id].top_row > g.loops[id].row + 1;
+    // Loops laid out longer than an ordinary one: a slipped or held loop is
+    // drawn over more than one row, a tuck loop's legs run back to the layer
+    // behind the loop it sits on, and a child pulled through a tuck and its
+    // loop runs its foot through both layers. Each head is given an
+    // ordinary loop's share of the yarn (`rest_length` docs).
+    let elongated = |id: usize| {
+        let l = &g.loops[id];
+        l.top_row > l.row + 1 || l.tucked_on.is_some() || l.parents.len() > 1
+    };
     let mut ordinary = ordinary_loop_lengths(
         all_lengths
             .iter()

@@ -93,7 +93,7 @@ impl Default for LayoutOptions {
             float_spread: 1.1,
             float_drop: 1.0,
             float_drop_shift: 0.4,
-            tuck_depth: 2.0,
+            tuck_depth: 2.4,
             edge_gap: 1.3,
             carry_spacing: 1.2,
             min_tube_radius: 6.0,

@@ -142,7 +142,8 @@ pub fn ordinary_loop_lengths<'a>(
 }
 
 /// The spreading weight of every segment (module docs): 1, except on the
-/// head of a loop that `elongated` names (drawn over more than one row).
+/// head of a loop that `elongated` names (laid out longer than an
+/// ordinary loop: drawn over more than one row, or a tuck's layers).
 /// `head[i]` says whether segment `i` lies on its loop's head, and
 /// `reference` is an ordinary loop's layout length (the median of
 /// [`ordinary_loop_lengths`]). With layout lengths `H` (head) and `T`
