@@ -6,7 +6,8 @@ built, two at a time, and exits non-zero if any of them failed.
 test runs alone leaves the second core idle; the longest ones (a drape, the
 stability suite, the GPU parity runs on llvmpipe) are mostly that. Running
 two binaries at once keeps both cores busy. The slowest binaries start
-first, so the run does not end on one long binary alone.
+first, so the run does not end on one long binary alone. Output streams
+as it comes, each line prefixed with its binary's name.
 
 Usage: run_tests.py BUILD_JSON [JOBS]
 """
@@ -15,6 +16,7 @@ import json
 import os
 import subprocess
 import sys
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
@@ -54,11 +56,23 @@ def rank(item):
     return SLOW_FIRST.index(name) if name in SLOW_FIRST else len(SLOW_FIRST)
 
 
+PRINT = threading.Lock()
+
+
+def say(text):
+    with PRINT:
+        print(text, flush=True)
+
+
 def run(item):
     name, path = item
     start = time.monotonic()
-    proc = subprocess.run([path], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    return name, proc.returncode, proc.stdout, time.monotonic() - start
+    say(f"==== {name}: started")
+    proc = subprocess.Popen([path], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    for line in proc.stdout:
+        say(f"[{name}] {line.rstrip()}")
+    code = proc.wait()
+    return name, code, time.monotonic() - start
 
 
 def main():
@@ -72,10 +86,9 @@ def main():
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         futures = [pool.submit(run, b) for b in binaries]
         for fut in as_completed(futures):
-            name, code, output, wall = fut.result()
+            name, code, wall = fut.result()
             status = "ok" if code == 0 else f"FAILED (exit {code})"
-            print(f"==== {name}: {status}, {wall:.1f} s", flush=True)
-            print(output, flush=True)
+            say(f"==== {name}: {status}, {wall:.1f} s")
             if code != 0:
                 failed.append(name)
     print(f"{len(binaries)} test binaries, {len(failed)} failed")
