@@ -215,9 +215,8 @@ pub fn build(c: &Case) -> Result<(Fabric, SimParams), String> {
     let parsed = parse_str(&c.pattern, &format!("{}.knit", c.name)).map_err(|e| e.to_string())?;
     let mut fabric = compile(&parsed.pattern, &CompileOptions::default()).map_err(|e| e.to_string())?;
     let mut p = params_for(&fabric, None).map_err(|e| e.to_string())?;
-    if c.contact {
-        p.contact = Some(ContactParams::default());
-    }
+    // `params_for` turns contact on; the "contact off" cases turn it off.
+    p.contact = c.contact.then(ContactParams::default);
     match c.change {
         Change::None => {}
         Change::Ks(k) => p.rod.ks *= k,
@@ -259,4 +258,22 @@ fn middle_pair(f: &Fabric) -> Result<(usize, usize), String> {
         return Err("yarn too short to perturb".into());
     }
     Ok((y.points[k].node, y.points[k + 1].node))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A case marked "contact off" runs without thickness contact, and the
+    /// others with it, whatever `params_for` turns on by default.
+    #[test]
+    fn contact_off_cases_have_no_thickness_contact() {
+        let all = super::all(4, 1);
+        let off: Vec<_> = all.iter().filter(|c| !c.contact).collect();
+        assert!(off.len() >= 3, "{} contact-off cases", off.len());
+        for c in all.iter().filter(|c| matches!(c.change, Change::None) || !c.contact) {
+            let Ok((_, p)) = build(c) else { continue };
+            assert_eq!(p.contact.is_some(), c.contact, "{}", c.name);
+        }
+    }
 }
